@@ -1,0 +1,15 @@
+# Writes a C++ source with every migrations/NNNN_*.sql as a string, in file-name order.
+# Inputs: SQL_DIR, OUT.
+file(GLOB sql_files "${SQL_DIR}/[0-9][0-9][0-9][0-9]_*.sql")
+list(SORT sql_files)
+set(body "#include \"storage/migrations.h\"\nnamespace anchordb::storage {\nconst std::vector<Migration>& EmbeddedMigrations() {\n  static const std::vector<Migration> kMigrations = {\n")
+foreach(f ${sql_files})
+  get_filename_component(name "${f}" NAME)
+  string(SUBSTRING "${name}" 0 4 number)
+  math(EXPR version "${number}")
+  file(READ "${f}" sql)
+  string(APPEND body "    {${version}, \"${name}\", R\"anchordb_sql(${sql})anchordb_sql\"},\n")
+endforeach()
+string(APPEND body "  };\n  return kMigrations;\n}\n}  // namespace anchordb::storage\n")
+file(WRITE "${OUT}.tmp" "${body}")
+execute_process(COMMAND ${CMAKE_COMMAND} -E copy_if_different "${OUT}.tmp" "${OUT}")

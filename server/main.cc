@@ -1,0 +1,205 @@
+// anchordb: the spatial memory server. Subcommands: serve, token create, version.
+#include <signal.h>
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <iostream>
+#include <mutex>
+#include <thread>
+
+#include "api/grid_service.h"
+#include "api/http_api.h"
+#include "schema/error.h"
+#include "server/auth.h"
+#include "server/config.h"
+#include "storage/repositories.h"
+#include "storage/store.h"
+
+#include <httplib.h>  // after Eigen (see api/http_api.h)
+
+extern char** environ;
+
+namespace anchordb::server {
+namespace {
+
+std::mutex g_log_mutex;
+
+void Log(const std::string& line) {
+  const auto now = std::chrono::system_clock::now();
+  const std::time_t t = std::chrono::system_clock::to_time_t(now);
+  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()).count() % 1000;
+  char ts[32];
+  std::strftime(ts, sizeof(ts), "%Y-%m-%dT%H:%M:%S", std::gmtime(&t));
+  std::lock_guard<std::mutex> lock(g_log_mutex);
+  std::fprintf(stderr, "%s.%03lldZ %s\n", ts, static_cast<long long>(ms), line.c_str());
+}
+
+std::map<std::string, std::string> Environment() {
+  std::map<std::string, std::string> env;
+  for (char** e = environ; *e; ++e) {
+    std::string kv(*e);
+    const auto eq = kv.find('=');
+    if (eq != std::string::npos && kv.rfind("ANCHORDB_", 0) == 0) env[kv.substr(0, eq)] = kv.substr(eq + 1);
+  }
+  return env;
+}
+
+storage::StoreOptions StoreOptionsOf(const Config& c) {
+  storage::StoreOptions o;
+  o.path = c.db;
+  o.connection.busy_timeout_ms = c.busy_timeout_ms;
+  o.connection.synchronous = c.synchronous;
+  o.reader_connections = c.reader_connections;
+  return o;
+}
+
+int Serve(const Config& config) {
+  const bool loopback = IsLoopback(config.bind);
+  if (!loopback && config.auth == "off") {
+    std::cerr << "anchordb: refusing to serve " << config.bind << " with auth=off; only loopback may run open\n";
+    return 2;
+  }
+  // Signals are handled by one thread with sigwait; block them before any other thread starts.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+
+  storage::Store store(StoreOptionsOf(config));
+  const auto& report = store.migration_report();
+  for (const auto& name : report.applied) Log("migration applied: " + name);
+  const bool auth_required = config.auth == "required" || !loopback;
+  if (auth_required) {
+    const auto tokens = store.Read([](storage::Connection& c) { return storage::CountTokens(c); });
+    if (tokens == 0) {
+      std::cerr << "anchordb: binding " << config.bind << " requires API tokens and the database has none; create one "
+                << "with: anchordb token create --role admin --db " << config.db << "\n";
+      return 2;
+    }
+  }
+
+  api::ServiceLimits limits;
+  limits.max_map_pixels = static_cast<std::size_t>(config.max_map_pixels);
+  limits.max_polygons = static_cast<std::size_t>(config.max_polygons);
+  limits.max_polygon_vertices = static_cast<std::size_t>(config.max_polygon_vertices);
+  limits.max_list_limit = config.max_list_limit;
+  limits.max_pending_writes = config.max_pending_writes;
+  api::GridDefaults defaults;
+  defaults.occupancy = {config.occupied_min, config.free_max};
+  defaults.attention = {config.attention_near_m, config.attention_max_facing_rad};
+  auto& v = defaults.viewpoints;
+  v.dilation_radius_m = config.viewpoint_dilation_m;
+  v.min_obstacle_distance_m = config.viewpoint_min_obstacle_m;
+  v.robot_radius_m = config.viewpoint_robot_radius_m;
+  v.min_surface_distance_m = config.viewpoint_min_surface_m;
+  v.max_surface_distance_m = config.viewpoint_max_surface_m;
+  v.min_person_distance_m = config.viewpoint_min_person_m;
+  v.cluster_spacing_m = config.viewpoint_spacing_m;
+  v.travel_scale_m = config.viewpoint_travel_scale_m;
+  v.weight_position = config.viewpoint_weight_position;
+  v.weight_travel = config.viewpoint_weight_travel;
+  v.seed = static_cast<std::uint64_t>(config.viewpoint_seed);
+  api::GridService service(store, limits, defaults);
+
+  api::HttpOptions options;
+  options.auth_required = auth_required;
+  options.authenticate = [&store](const std::string& token) -> std::optional<api::Role> {
+    const auto record = store.Read([&](storage::Connection& c) { return storage::FindTokenByHash(c, Sha256Hex(token)); });
+    if (!record) return std::nullopt;
+    return api::RoleFromName(record->role);
+  };
+  if (config.log_requests) options.log = Log;
+  options.settings = [config] { return SettingsJson(config); };
+  options.max_body_bytes = static_cast<std::size_t>(config.max_body_bytes);
+  api::HttpApi http(service, options);
+
+  httplib::Server server;
+  const int threads = config.threads;
+  server.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
+  server.set_keep_alive_max_count(100000);
+  server.set_read_timeout(10, 0);
+  http.Mount(server);
+
+  const int port = config.port == 0 ? server.bind_to_any_port(config.bind) : (server.bind_to_port(config.bind, config.port) ? config.port : -1);
+  if (port < 0) {
+    std::cerr << "anchordb: cannot listen on " << config.bind << ":" << config.port << "\n";
+    return 1;
+  }
+  std::thread signal_thread([&server, signals] {
+    int received = 0;
+    sigwait(&signals, &received);
+    Log(std::string("received ") + (received == SIGINT ? "SIGINT" : "SIGTERM") + ", shutting down");
+    server.stop();
+  });
+  std::printf("anchordb listening on http://%s:%d (db %s, schema version %d, auth %s)\n", config.bind.c_str(), port,
+              config.db.c_str(), report.to_version, auth_required ? "required" : "off (loopback)");
+  std::fflush(stdout);
+  const bool ok = server.listen_after_bind();
+  if (signal_thread.joinable()) {
+    pthread_kill(signal_thread.native_handle(), SIGTERM);  // wakes sigwait if the server stopped for another reason
+    signal_thread.join();
+  }
+  Log("stopped; database closed cleanly");
+  return ok ? 0 : 1;
+}
+
+void Usage() {
+  std::cout << "usage:\n"
+               "  anchordb serve [--config file.json] [--<setting>=<value> ...]\n"
+               "  anchordb token create --role reader|writer|admin [--db file]\n"
+               "  anchordb version\n\nsettings (also ANCHORDB_<NAME> environment variables):\n"
+            << SettingsHelp();
+}
+
+int Main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
+    Usage();
+    return args.empty() ? 2 : 0;
+  }
+  try {
+    if (args[0] == "version") {
+      std::cout << "anchordb 0.1.0\n";
+      return 0;
+    }
+    if (args[0] == "serve") {
+      std::vector<std::string> rest(args.begin() + 1, args.end());
+      for (const auto& a : rest) {
+        if (a == "--help" || a == "-h") return Usage(), 0;
+      }
+      return Serve(LoadConfig(rest, Environment()));
+    }
+    if (args.size() >= 2 && args[0] == "token" && args[1] == "create") {
+      std::string role;
+      std::vector<std::string> rest;
+      for (std::size_t i = 2; i < args.size(); ++i) {
+        if (args[i] == "--role" && i + 1 < args.size()) role = args[++i];
+        else if (args[i].rfind("--role=", 0) == 0) role = args[i].substr(7);
+        else rest.push_back(args[i]);
+      }
+      const Config config = LoadConfig(rest, Environment());
+      storage::Store store(StoreOptionsOf(config));
+      const CreatedToken t = CreateToken(store, role);
+      std::cout << "token " << t.id << " (" << t.role << "): " << t.secret << "\n"
+                << "Store it now: only its hash is kept in " << config.db << ".\n";
+      return 0;
+    }
+    std::cerr << "anchordb: unknown command '" << args[0] << "'\n";
+    Usage();
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "anchordb: " << e.what() << "\n";
+    return 2;
+  } catch (const Error& e) {
+    std::cerr << "anchordb: " << e.what() << "\n";
+    return 3;
+  }
+}
+
+}  // namespace
+}  // namespace anchordb::server
+
+int main(int argc, char** argv) { return anchordb::server::Main(argc, argv); }

@@ -1,0 +1,39 @@
+#pragma once
+// The format of every array stored as a BLOB: a fixed little-endian header, then one zstd frame.
+//   bytes 0-3   magic "ADBB"
+//   bytes 4-5   format version (1)
+//   byte  6     element type (BlobElement)
+//   byte  7     number of dimensions n (1..4)
+//   n x u32     shape, outermost first (a grid is {height, width})
+//   u64         uncompressed payload size in bytes (= element size x product of shape)
+//   ...         zstd frame with content checksum
+// Decoding checks all of it and throws Error(kInternal) naming what is wrong, so corrupt rows are reported,
+// never silently misread.
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace anchordb::storage {
+
+enum class BlobElement : std::uint8_t { kU8 = 1, kI8 = 2, kU16 = 3, kI16 = 4, kF32 = 5, kF64 = 6, kU32 = 7 };
+
+std::size_t ElementSize(BlobElement element);
+
+struct DecodedBlob {
+  BlobElement element = BlobElement::kU8;
+  std::vector<std::uint32_t> shape;
+  std::string bytes;  // the raw little-endian payload
+};
+
+// `payload` must hold exactly ElementSize(element) x product(shape) bytes. `level` is the zstd level.
+std::string EncodeBlob(BlobElement element, const std::vector<std::uint32_t>& shape, std::string_view payload,
+                       int level = 3);
+DecodedBlob DecodeBlob(std::string_view blob);
+
+template <typename T>
+std::string_view AsBytes(const std::vector<T>& v) {
+  return {reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T)};
+}
+
+}  // namespace anchordb::storage

@@ -1,0 +1,117 @@
+#include "storage/sqlite.h"
+
+#include "schema/error.h"
+
+namespace anchordb::storage {
+
+void ThrowSqliteError(sqlite3* db, int rc, std::string_view what) {
+  const std::string message = std::string(what) + ": " + (db ? sqlite3_errmsg(db) : sqlite3_errstr(rc));
+  const int primary = rc & 0xff;
+  if (primary == SQLITE_CONSTRAINT) throw Error(ErrorCode::kConflict, message);
+  if (primary == SQLITE_BUSY || primary == SQLITE_LOCKED) throw Error(ErrorCode::kOverloaded, message);
+  throw Error(ErrorCode::kInternal, message);
+}
+
+Connection::Connection(const std::string& path, const ConnectionOptions& options) {
+  const int flags = (options.read_only ? SQLITE_OPEN_READONLY : (SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE)) |
+                    SQLITE_OPEN_NOMUTEX;
+  const int rc = sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
+  if (rc != SQLITE_OK) {
+    const std::string message = "cannot open database " + path + ": " + (db_ ? sqlite3_errmsg(db_) : sqlite3_errstr(rc));
+    sqlite3_close_v2(db_);
+    db_ = nullptr;
+    throw Error(ErrorCode::kInternal, message);
+  }
+  sqlite3_extended_result_codes(db_, 1);
+  sqlite3_busy_timeout(db_, options.busy_timeout_ms);
+  Exec("PRAGMA foreign_keys = ON");
+  if (!options.read_only) {
+    Exec("PRAGMA journal_mode = WAL");
+    Exec("PRAGMA synchronous = " + options.synchronous);
+  }
+}
+
+Connection::~Connection() { sqlite3_close_v2(db_); }
+
+void Connection::Exec(std::string_view sql) {
+  char* err = nullptr;
+  const int rc = sqlite3_exec(db_, std::string(sql).c_str(), nullptr, nullptr, &err);
+  if (rc != SQLITE_OK) {
+    const std::string message = err ? err : sqlite3_errstr(rc);
+    sqlite3_free(err);
+    ThrowSqliteError(nullptr, rc, message);
+  }
+}
+
+Statement::Statement(const Connection& connection, std::string_view sql) : db_(connection.handle()) {
+  const int rc = sqlite3_prepare_v2(db_, sql.data(), static_cast<int>(sql.size()), &stmt_, nullptr);
+  if (rc != SQLITE_OK) ThrowSqliteError(db_, rc, "prepare");
+}
+
+Statement::~Statement() { sqlite3_finalize(stmt_); }
+
+Statement& Statement::Bind(int i, std::int64_t v) {
+  if (int rc = sqlite3_bind_int64(stmt_, i, v); rc != SQLITE_OK) ThrowSqliteError(db_, rc, "bind");
+  return *this;
+}
+Statement& Statement::Bind(int i, double v) {
+  if (int rc = sqlite3_bind_double(stmt_, i, v); rc != SQLITE_OK) ThrowSqliteError(db_, rc, "bind");
+  return *this;
+}
+Statement& Statement::Bind(int i, std::string_view t) {
+  if (int rc = sqlite3_bind_text64(stmt_, i, t.data(), t.size(), SQLITE_TRANSIENT, SQLITE_UTF8); rc != SQLITE_OK) {
+    ThrowSqliteError(db_, rc, "bind");
+  }
+  return *this;
+}
+Statement& Statement::BindBlob(int i, std::string_view b) {
+  if (int rc = sqlite3_bind_blob64(stmt_, i, b.data(), b.size(), SQLITE_TRANSIENT); rc != SQLITE_OK) {
+    ThrowSqliteError(db_, rc, "bind");
+  }
+  return *this;
+}
+Statement& Statement::BindNull(int i) {
+  if (int rc = sqlite3_bind_null(stmt_, i); rc != SQLITE_OK) ThrowSqliteError(db_, rc, "bind");
+  return *this;
+}
+
+bool Statement::Step() {
+  const int rc = sqlite3_step(stmt_);
+  if (rc == SQLITE_ROW) return true;
+  if (rc == SQLITE_DONE) return false;
+  ThrowSqliteError(db_, rc, "step");
+}
+
+void Statement::Run() {
+  while (Step()) {
+  }
+}
+
+std::string Statement::Text(int c) const {
+  const auto* p = sqlite3_column_text(stmt_, c);
+  return p ? std::string(reinterpret_cast<const char*>(p), sqlite3_column_bytes(stmt_, c)) : std::string();
+}
+
+std::string Statement::Blob(int c) const {
+  const void* p = sqlite3_column_blob(stmt_, c);
+  return p ? std::string(static_cast<const char*>(p), sqlite3_column_bytes(stmt_, c)) : std::string();
+}
+
+Transaction::Transaction(Connection& connection) : connection_(connection) { connection_.Exec("BEGIN IMMEDIATE"); }
+
+Transaction::~Transaction() {
+  if (!done_) {
+    try {
+      connection_.Exec("ROLLBACK");
+    } catch (...) {
+      // A failed rollback leaves SQLite to roll back on close; nothing more can be done in a destructor.
+    }
+  }
+}
+
+void Transaction::Commit() {
+  connection_.Exec("COMMIT");
+  done_ = true;
+}
+
+}  // namespace anchordb::storage

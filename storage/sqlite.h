@@ -1,0 +1,81 @@
+#pragma once
+// Thin RAII wrappers over the SQLite C API. Every failure throws anchordb::Error (kInternal, or kConflict for
+// constraint violations, kOverloaded when the busy timeout ran out) with SQLite's message.
+#include <sqlite3.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace anchordb::storage {
+
+struct ConnectionOptions {
+  int busy_timeout_ms = 5000;
+  // FULL: every commit is fsynced before it is acknowledged (durable across power loss); NORMAL is only
+  // durable across process crashes in WAL mode.
+  std::string synchronous = "FULL";
+  bool read_only = false;
+};
+
+class Connection {
+ public:
+  Connection(const std::string& path, const ConnectionOptions& options);
+  ~Connection();
+  Connection(const Connection&) = delete;
+  Connection& operator=(const Connection&) = delete;
+
+  sqlite3* handle() const { return db_; }
+  void Exec(std::string_view sql);
+  std::int64_t Changes() const { return sqlite3_changes64(db_); }
+
+ private:
+  sqlite3* db_ = nullptr;
+};
+
+class Statement {
+ public:
+  Statement(const Connection& connection, std::string_view sql);
+  ~Statement();
+  Statement(const Statement&) = delete;
+  Statement& operator=(const Statement&) = delete;
+
+  // Bind by 1-based position; return *this for chaining.
+  Statement& Bind(int index, std::int64_t value);
+  Statement& Bind(int index, double value);
+  Statement& Bind(int index, std::string_view text);
+  Statement& BindBlob(int index, std::string_view bytes);
+  Statement& BindNull(int index);
+
+  // Advances to the next row; false when done.
+  bool Step();
+  // Runs a statement that returns no rows.
+  void Run();
+
+  std::int64_t Int(int column) const { return sqlite3_column_int64(stmt_, column); }
+  double Double(int column) const { return sqlite3_column_double(stmt_, column); }
+  std::string Text(int column) const;
+  std::string Blob(int column) const;
+  bool IsNull(int column) const { return sqlite3_column_type(stmt_, column) == SQLITE_NULL; }
+
+ private:
+  sqlite3* db_;
+  sqlite3_stmt* stmt_ = nullptr;
+};
+
+// BEGIN IMMEDIATE ... COMMIT; rolls back in the destructor unless Commit() ran.
+class Transaction {
+ public:
+  explicit Transaction(Connection& connection);
+  ~Transaction();
+  void Commit();
+
+ private:
+  Connection& connection_;
+  bool done_ = false;
+};
+
+[[noreturn]] void ThrowSqliteError(sqlite3* db, int rc, std::string_view what);
+
+}  // namespace anchordb::storage

@@ -1,0 +1,45 @@
+#include "storage/store.h"
+
+namespace anchordb::storage {
+
+Store::Store(const StoreOptions& options) : options_(options) {
+  writer_ = std::make_unique<Connection>(options_.path, options_.connection);
+  migration_report_ = ApplyMigrations(*writer_, EmbeddedMigrations());
+  ConnectionOptions reader_options = options_.connection;
+  reader_options.read_only = true;
+  for (int i = 0; i < std::max(1, options_.reader_connections); ++i) {
+    readers_.push_back(std::make_unique<Connection>(options_.path, reader_options));
+    idle_readers_.push_back(readers_.back().get());
+  }
+}
+
+Store::~Store() {
+  readers_.clear();
+  // A clean close checkpoints the WAL into the main file.
+  writer_.reset();
+}
+
+std::string Store::IntegrityCheck() {
+  std::lock_guard<std::mutex> lock(write_mutex_);
+  Statement s(*writer_, "PRAGMA integrity_check");
+  std::string result;
+  while (s.Step()) result += (result.empty() ? "" : "; ") + s.Text(0);
+  return result;
+}
+
+Store::Lease::Lease(Store& store) : store_(store) {
+  std::unique_lock<std::mutex> lock(store_.reader_mutex_);
+  store_.reader_available_.wait(lock, [&] { return !store_.idle_readers_.empty(); });
+  connection = store_.idle_readers_.back();
+  store_.idle_readers_.pop_back();
+}
+
+Store::Lease::~Lease() {
+  {
+    std::lock_guard<std::mutex> lock(store_.reader_mutex_);
+    store_.idle_readers_.push_back(connection);
+  }
+  store_.reader_available_.notify_one();
+}
+
+}  // namespace anchordb::storage

@@ -1,0 +1,76 @@
+#pragma once
+// The SQLite store: one writer connection (writes are serialised and each runs in one BEGIN IMMEDIATE
+// transaction that is committed before the call returns) and a pool of reader connections (WAL lets them read
+// while a write is in progress). Opening migrates the file to the newest schema.
+#include <condition_variable>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "storage/migrations.h"
+#include "storage/sqlite.h"
+
+namespace anchordb::storage {
+
+struct StoreOptions {
+  std::string path;
+  ConnectionOptions connection;
+  int reader_connections = 4;
+};
+
+class Store {
+ public:
+  explicit Store(const StoreOptions& options);
+  ~Store();
+
+  // Runs `fn` on a reader connection (blocks while all readers are leased).
+  template <typename F>
+  auto Read(F&& fn) {
+    Lease lease(*this);
+    return fn(*lease.connection);
+  }
+
+  // Runs `fn` inside a write transaction on the writer connection and commits; an exception rolls back.
+  template <typename F>
+  auto Write(F&& fn) {
+    std::lock_guard<std::mutex> lock(write_mutex_);
+    Transaction tx(*writer_);
+    if constexpr (std::is_void_v<decltype(fn(*writer_))>) {
+      fn(*writer_);
+      tx.Commit();
+    } else {
+      auto result = fn(*writer_);
+      tx.Commit();
+      return result;
+    }
+  }
+
+  const MigrationReport& migration_report() const { return migration_report_; }
+  const std::string& path() const { return options_.path; }
+  // PRAGMA integrity_check on the writer connection; "ok" when the file is sound.
+  std::string IntegrityCheck();
+
+ private:
+  class Lease {
+   public:
+    explicit Lease(Store& store);
+    ~Lease();
+    Connection* connection;
+
+   private:
+    Store& store_;
+  };
+
+  StoreOptions options_;
+  std::unique_ptr<Connection> writer_;
+  std::mutex write_mutex_;
+  std::vector<std::unique_ptr<Connection>> readers_;
+  std::vector<Connection*> idle_readers_;
+  std::mutex reader_mutex_;
+  std::condition_variable reader_available_;
+  MigrationReport migration_report_;
+};
+
+}  // namespace anchordb::storage
