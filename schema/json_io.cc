@@ -18,8 +18,13 @@ std::string Join(const std::string& path, const std::string& key) { return path.
 
 Json ParseObject(std::string_view text) {
   if (text.empty()) throw Error(ErrorCode::kInvalidJson, "request body is empty; a JSON object is expected");
-  Json j = Json::parse(text.begin(), text.end(), nullptr, /*allow_exceptions=*/false);
-  if (j.is_discarded()) throw Error(ErrorCode::kInvalidJson, "request body is not valid JSON");
+  Json j;
+  try {
+    j = Json::parse(text.begin(), text.end());
+  } catch (const Json::parse_error& e) {
+    // nlohmann's text names the position and the problem (also "number overflow" for 1e999, which is not finite).
+    throw Error(ErrorCode::kInvalidJson, std::string("request body is not valid JSON: ") + e.what());
+  }
   if (!j.is_object()) throw Error(ErrorCode::kInvalidJson, "request body must be a JSON object");
   return j;
 }

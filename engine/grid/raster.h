@@ -1,6 +1,6 @@
 #pragma once
-// Rasterisation of map-frame polygons onto a grid: a cell belongs to a polygon when its centre lies inside
-// (even-odd rule), so results do not depend on how a polygon's edges graze cell borders.
+// Rasterisation of map-frame polygons onto a grid: a cell belongs to a polygon when its centre lies inside or on
+// its edge (even-odd rule), so results do not depend on how a polygon's edges graze cell borders.
 #include <vector>
 
 #include "engine/grid/grid.h"

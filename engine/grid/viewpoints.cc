@@ -56,6 +56,7 @@ std::vector<double> TravelDistances(const OccupancyGrid& occupancy, const Occupa
     for (int k = 0; k < 8; ++k) {
       const int nx = ix + kDx[k], ny = iy + kDy[k];
       if (!g.Contains(nx, ny) || !passable(nx, ny)) continue;
+      if (k >= 4 && (!passable(ix + kDx[k], iy) || !passable(ix, iy + kDy[k]))) continue;  // no corner cutting
       const double nd = d + (k < 4 ? g.resolution_m : diag);
       const int n = ny * g.width_cells + nx;
       if (nd < dist[n]) dist[n] = nd, open.emplace(nd, n);

@@ -54,7 +54,8 @@ ViewpointPlan PlanViewpoints(const OccupancyGrid& occupancy, const MaskGrid& sur
                              const Agent& person, const ViewpointOptions& options);
 
 // Shortest 8-connected path lengths [m] from `start` over cells that are free and keep `clearance_m` from
-// obstacles; unreachable cells are +inf. The start cell itself is always traversable.
+// obstacles (diagonal steps only between two passable side neighbours); unreachable cells are +inf. The start
+// cell itself is always traversable.
 std::vector<double> TravelDistances(const OccupancyGrid& occupancy, const OccupancyThresholds& thresholds, int start_ix,
                                     int start_iy, double clearance_m);
 

@@ -1,0 +1,228 @@
+// The SQLite store on real files: migrations, repositories, cascades, the R*Tree index, restart round trips.
+#include "storage/store.h"
+
+#include <gtest/gtest.h>
+
+#include "schema/error.h"
+#include "storage/blob_codec.h"
+#include "storage/repositories.h"
+#include "tests/support/temp_dir.h"
+
+namespace anchordb::storage {
+namespace {
+
+StoreOptions OptionsFor(const std::string& path) {
+  StoreOptions o;
+  o.path = path;
+  o.reader_connections = 2;
+  return o;
+}
+
+LayerRecord Layer(const std::string& map, const std::string& name, std::string data) {
+  LayerRecord l;
+  l.map_id = map;
+  l.name = name;
+  l.kind = LayerKind::kProbability;
+  l.meta_json = "{}";
+  l.data = std::move(data);
+  l.created_ns = l.updated_ns = 5;
+  return l;
+}
+
+TEST(MigrationsTest, AppliedInOrderRecordedAndNotReapplied) {
+  testing::TempDir dir;
+  const std::string path = dir.File("db.sqlite");
+  {
+    Store store(OptionsFor(path));
+    const auto& r = store.migration_report();
+    EXPECT_EQ(r.from_version, 0);
+    EXPECT_EQ(r.to_version, EmbeddedMigrations().back().version);
+    EXPECT_EQ(r.applied.size(), EmbeddedMigrations().size());
+    const auto names = store.Read([](Connection& c) {
+      std::vector<std::string> v;
+      Statement s(c, "SELECT name FROM schema_migrations ORDER BY version");
+      while (s.Step()) v.push_back(s.Text(0));
+      return v;
+    });
+    ASSERT_EQ(names.size(), EmbeddedMigrations().size());
+    EXPECT_EQ(names.front(), "0001_init.sql");
+  }
+  Store again(OptionsFor(path));
+  EXPECT_TRUE(again.migration_report().applied.empty());
+  EXPECT_EQ(again.migration_report().from_version, again.migration_report().to_version);
+}
+
+TEST(MigrationsTest, NewerDatabaseIsRefusedUntouched) {
+  testing::TempDir dir;
+  const std::string path = dir.File("future.sqlite");
+  {
+    Connection c(path, {});
+    c.Exec("CREATE TABLE something_new (x INTEGER)");
+    c.Exec("PRAGMA user_version = 999");
+  }
+  try {
+    Store store(OptionsFor(path));
+    FAIL() << "a database from a newer version was opened";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kConflict);
+    EXPECT_NE(std::string(e.what()).find("999"), std::string::npos);
+  }
+  Connection c(path, {});
+  EXPECT_EQ(UserVersion(c), 999);
+  Statement s(c, "SELECT count(*) FROM sqlite_master WHERE name = 'maps'");
+  s.Step();
+  EXPECT_EQ(s.Int(0), 0);
+}
+
+TEST(MigrationsTest, FailingMigrationRollsBackAndKeepsVersion) {
+  testing::TempDir dir;
+  Connection c(dir.File("db.sqlite"), {});
+  const std::vector<Migration> migrations = {{1, "0001_ok.sql", "CREATE TABLE a (x INTEGER);"},
+                                             {2, "0002_bad.sql", "CREATE TABLE b (x INTEGER); THIS IS NOT SQL;"}};
+  EXPECT_THROW(ApplyMigrations(c, migrations), Error);
+  EXPECT_EQ(UserVersion(c), 1);
+  Statement s(c, "SELECT count(*) FROM sqlite_master WHERE name = 'b'");
+  s.Step();
+  EXPECT_EQ(s.Int(0), 0);
+}
+
+TEST(StoreTest, PragmasAreSet) {
+  testing::TempDir dir;
+  Store store(OptionsFor(dir.File("db.sqlite")));
+  store.Write([](Connection& c) {
+    Statement j(c, "PRAGMA journal_mode");
+    j.Step();
+    EXPECT_EQ(j.Text(0), "wal");
+    Statement f(c, "PRAGMA foreign_keys");
+    f.Step();
+    EXPECT_EQ(f.Int(0), 1);
+    Statement s(c, "PRAGMA synchronous");
+    s.Step();
+    EXPECT_EQ(s.Int(0), 2);  // FULL
+  });
+  EXPECT_EQ(store.IntegrityCheck(), "ok");
+}
+
+TEST(StoreTest, MapsLayersAgentsAndCascadingDelete) {
+  testing::TempDir dir;
+  Store store(OptionsFor(dir.File("db.sqlite")));
+  store.Write([](Connection& c) {
+    InsertMap(c, {"home", "Home", 1});
+    InsertMap(c, {"office", "Office", 2});
+    InsertLayer(c, Layer("home", "base", "B"), {});
+    InsertLayer(c, Layer("home", "surface", "S"), {"base"});
+    Agent a;
+    a.id = "anna";
+    a.position_m = {1.0, 2.0};
+    UpsertAgent(c, "home", a);
+  });
+  EXPECT_THROW(store.Write([](Connection& c) { InsertMap(c, {"home", "again", 3}); }), Error);
+  EXPECT_THROW(store.Write([](Connection& c) { InsertLayer(c, Layer("home", "base", "X"), {}); }), Error);
+  EXPECT_THROW(store.Write([](Connection& c) { InsertLayer(c, Layer("nowhere", "x", "X"), {}); }), Error);
+  store.Read([](Connection& c) {
+    EXPECT_EQ(ListMaps(c, "", 10).size(), 2u);
+    EXPECT_EQ(ListMaps(c, "home", 10).size(), 1u);  // cursor
+    EXPECT_EQ(LayerDependents(c, "home", "base"), std::vector<std::string>{"surface"});
+    EXPECT_EQ(FindLayer(c, "home", "surface", true)->data, "S");
+    EXPECT_TRUE(FindLayer(c, "home", "surface", false)->data.empty());
+    EXPECT_EQ(FindLayer(c, "home", "surface", false)->data_bytes, 1);
+    return 0;
+  });
+  store.Write([](Connection& c) { EXPECT_TRUE(DeleteMap(c, "home")); });
+  store.Read([](Connection& c) {
+    EXPECT_FALSE(FindMap(c, "home"));
+    EXPECT_TRUE(ListLayers(c, "home").empty());
+    EXPECT_FALSE(FindAgent(c, "home", "anna"));
+    Statement s(c, "SELECT count(*) FROM agents_rtree");
+    s.Step();
+    EXPECT_EQ(s.Int(0), 0);  // the spatial index follows the cascade
+    EXPECT_TRUE(FindMap(c, "office").has_value());
+    return 0;
+  });
+}
+
+TEST(StoreTest, OptimisticVersionCheckOnLayerUpdate) {
+  testing::TempDir dir;
+  Store store(OptionsFor(dir.File("db.sqlite")));
+  store.Write([](Connection& c) {
+    InsertMap(c, {"m", "m", 1});
+    InsertLayer(c, Layer("m", "l", "v1"), {});
+  });
+  LayerRecord next = Layer("m", "l", "v2");
+  next.version = 2;
+  store.Write([&](Connection& c) { UpdateLayer(c, next, 1); });
+  EXPECT_THROW(store.Write([&](Connection& c) { UpdateLayer(c, next, 1); }), Error);
+  EXPECT_EQ(store.Read([](Connection& c) { return FindLayer(c, "m", "l", true)->data; }), "v2");
+}
+
+TEST(StoreTest, FailedWriteRollsBackEverything) {
+  testing::TempDir dir;
+  Store store(OptionsFor(dir.File("db.sqlite")));
+  EXPECT_THROW(store.Write([](Connection& c) {
+                 InsertMap(c, {"m", "m", 1});
+                 throw Error(ErrorCode::kUnprocessable, "changed my mind");
+               }),
+               Error);
+  EXPECT_FALSE(store.Read([](Connection& c) { return FindMap(c, "m").has_value(); }));
+}
+
+TEST(StoreTest, RTreeBoundingBoxQuery) {
+  testing::TempDir dir;
+  Store store(OptionsFor(dir.File("db.sqlite")));
+  store.Write([](Connection& c) {
+    InsertMap(c, {"m", "m", 1});
+    for (int i = 0; i < 20; ++i) {
+      Agent a;
+      a.id = "a" + std::to_string(i);
+      a.position_m = {i * 1.0, -i * 0.5};
+      UpsertAgent(c, "m", a);
+    }
+    Agent moved;
+    moved.id = "a0";
+    moved.position_m = {100.0, 100.0};
+    UpsertAgent(c, "m", moved);  // the update trigger moves its index entry
+  });
+  const auto inside = store.Read([](Connection& c) { return ListAgents(c, "m", Bbox{2.5, -4.0, 6.5, 0.0}); });
+  std::vector<std::string> ids;
+  for (const auto& a : inside) ids.push_back(a.id);
+  EXPECT_EQ(ids, (std::vector<std::string>{"a3", "a4", "a5", "a6"}));
+  const auto far = store.Read([](Connection& c) { return ListAgents(c, "m", Bbox{99, 99, 101, 101}); });
+  ASSERT_EQ(far.size(), 1u);
+  EXPECT_EQ(far[0].id, "a0");
+}
+
+TEST(StoreTest, RestartRoundTripIsByteIdentical) {
+  testing::TempDir dir;
+  const std::string path = dir.File("db.sqlite");
+  std::vector<float> cells(400 * 400);
+  for (std::size_t i = 0; i < cells.size(); ++i) cells[i] = static_cast<float>((i * 7919) % 1000) / 100.0f - 5.0f;
+  const std::string blob = EncodeBlob(BlobElement::kF32, {400, 400}, AsBytes(cells), 1);
+  {
+    Store store(OptionsFor(path));
+    store.Write([&](Connection& c) {
+      InsertMap(c, {"m", "m", 1});
+      InsertLayer(c, Layer("m", "l", blob), {});
+    });
+  }
+  Store reopened(OptionsFor(path));
+  const auto back = reopened.Read([](Connection& c) { return FindLayer(c, "m", "l", true); });
+  ASSERT_TRUE(back.has_value());
+  EXPECT_EQ(back->data, blob);
+  EXPECT_EQ(DecodeBlob(back->data).bytes, std::string(AsBytes(cells)));
+}
+
+TEST(StoreTest, TokensByHash) {
+  testing::TempDir dir;
+  Store store(OptionsFor(dir.File("db.sqlite")));
+  store.Write([](Connection& c) { InsertToken(c, {"t1", "abc", "writer", 1}); });
+  EXPECT_THROW(store.Write([](Connection& c) { InsertToken(c, {"t2", "def", "root", 1}); }), Error);
+  store.Read([](Connection& c) {
+    EXPECT_EQ(CountTokens(c), 1);
+    EXPECT_EQ(FindTokenByHash(c, "abc")->role, "writer");
+    EXPECT_FALSE(FindTokenByHash(c, "nope"));
+    return 0;
+  });
+}
+
+}  // namespace
+}  // namespace anchordb::storage
