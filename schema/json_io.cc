@@ -21,7 +21,7 @@ Json ParseObject(std::string_view text) {
   Json j;
   try {
     j = Json::parse(text.begin(), text.end());
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {
     // nlohmann's text names the position and the problem (also "number overflow" for 1e999, which is not finite).
     throw Error(ErrorCode::kInvalidJson, std::string("request body is not valid JSON: ") + e.what());
   }
