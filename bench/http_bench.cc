@@ -4,7 +4,10 @@
 // wrk against it and against `anchordb serve` in the same run shows what anchordb's routing, auth, metrics and
 // SQLite read add on top of the HTTP library.
 //
-//   anchordb_http_peer [--bind 127.0.0.1] [--port 0] [--threads 8] [--body_bytes 400]
+//   anchordb_http_peer [--bind 127.0.0.1] [--port 0] [--threads 8] [--body_bytes 400] [--tcp_nodelay false]
+//
+// --tcp_nodelay defaults to false, cpp-httplib's default and what server/main.cc leaves it at; with it off,
+// each response (headers and body written separately) meets Nagle + delayed ACK on keep-alive connections.
 //
 // Prints "anchordb_http_peer listening on http://<bind>:<port> ..." on stdout once bound (port 0 = any free
 // port), stops on SIGINT/SIGTERM.
@@ -41,7 +44,8 @@ bool ParseInt(const std::string& text, long lo, long hi, long& out) {
 }
 
 int Usage() {
-  std::cerr << "usage: anchordb_http_peer [--bind 127.0.0.1] [--port 0] [--threads 8] [--body_bytes 400]\n";
+  std::cerr << "usage: anchordb_http_peer [--bind 127.0.0.1] [--port 0] [--threads 8] [--body_bytes 400] "
+               "[--tcp_nodelay false]\n";
   return 2;
 }
 
@@ -50,6 +54,7 @@ int Usage() {
 int main(int argc, char** argv) {
   std::string bind = "127.0.0.1";
   long port = 0, threads = 8, body_bytes = 400;
+  bool tcp_nodelay = false;
   for (int i = 1; i < argc; ++i) {
     std::string flag = argv[i], value;
     if (const auto eq = flag.find('='); eq != std::string::npos) {
@@ -65,6 +70,7 @@ int main(int argc, char** argv) {
     else if (flag == "--port") ok = ParseInt(value, 0, 65535, port);
     else if (flag == "--threads") ok = ParseInt(value, 1, 256, threads);
     else if (flag == "--body_bytes") ok = ParseInt(value, 1, 1 << 20, body_bytes);
+    else if (flag == "--tcp_nodelay") ok = (value == "true" || value == "false") && ((tcp_nodelay = value == "true"), true);
     else ok = false;
     if (!ok) return Usage();
   }
@@ -81,6 +87,7 @@ int main(int argc, char** argv) {
   server.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
   server.set_keep_alive_max_count(100000);
   server.set_read_timeout(10, 0);
+  server.set_tcp_nodelay(tcp_nodelay);
   server.Get(R"(/.*)", [&body](const httplib::Request&, httplib::Response& res) {
     res.set_content(body, "application/json");
   });
@@ -96,8 +103,9 @@ int main(int argc, char** argv) {
     sigwait(&signals, &received);
     server.stop();
   });
-  std::printf("anchordb_http_peer listening on http://%s:%d (bare cpp-httplib handler, %zu-byte JSON body, %ld threads)\n",
-              bind.c_str(), bound, body.size(), threads);
+  std::printf("anchordb_http_peer listening on http://%s:%d (bare cpp-httplib handler, %zu-byte JSON body, %ld threads, "
+              "tcp_nodelay %s)\n",
+              bind.c_str(), bound, body.size(), threads, tcp_nodelay ? "true" : "false");
   std::fflush(stdout);
   const bool ok = server.listen_after_bind();
   if (signal_thread.joinable()) {

@@ -75,6 +75,18 @@ struct FuseOperand {
 enum class LayerKind { kOccupancy, kProbability, kFused, kLabel };
 const char* LayerKindName(LayerKind kind);
 
+// Pinhole camera intrinsics as in ROS CameraInfo K (no distortion). Pixel (u, v) looks along the optical-frame
+// ray ((u - cx) / fx, (v - cy) / fy, 1); u to the right, v down, z forward (REP-103 optical frame).
+struct PinholeIntrinsics {
+  int width = 640;
+  int height = 480;
+  double fx = 525.0;
+  double fy = 525.0;
+  double cx = 319.5;
+  double cy = 239.5;
+  bool operator==(const PinholeIntrinsics&) const = default;
+};
+
 // A tracked person in the map frame.
 struct Agent {
   std::string id;
