@@ -1,0 +1,178 @@
+#!/usr/bin/env python3
+"""Summaries for scripts/bench (standard library only).
+
+  bench_report.py grid GRID_JSON
+      prints the median time of every grid benchmark from Google Benchmark's JSON and checks the SPEC section 7
+      goal of the observation update (<= 2 ms on 400x400 cells).
+  bench_report.py http OUT_JSON MANIFEST
+      MANIFEST has one tab-separated line per wrk run: key, description, url, wrk output file, ss snapshot file,
+      response body bytes, connections opened. Prints the side-by-side table with the ratios anchordb / peer and
+      writes OUT_JSON.
+"""
+import json
+import re
+import sys
+
+OBSERVATION_GOAL_MS = 2.0
+READ_GOAL_RPS = 5000.0
+READ_GOAL_P99_MS = 5.0
+
+
+def to_ms(value, unit):
+    return value * {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}[unit]
+
+
+def grid(path):
+    with open(path) as f:
+        doc = json.load(f)
+    runs = {}
+    for b in doc.get("benchmarks", []):
+        name = b.get("run_name", b["name"])
+        entry = runs.setdefault(name, {"iterations": [], "median": None, "error": None, "counters": {}})
+        if b.get("error_occurred"):
+            entry["error"] = b.get("error_message", "error")
+            continue
+        if b.get("run_type") == "aggregate":
+            if b.get("aggregate_name") == "median":
+                entry["median"] = to_ms(b["real_time"], b.get("time_unit", "ns"))
+            continue
+        entry["iterations"].append(to_ms(b["real_time"], b.get("time_unit", "ns")))
+        for k, v in b.items():
+            if isinstance(v, (int, float)) and k not in (
+                    "family_index", "per_family_instance_index", "repetitions", "repetition_index", "threads",
+                    "iterations", "real_time", "cpu_time", "bytes_per_second", "items_per_second"):
+                entry["counters"][k] = v
+    ctx = doc.get("context", {})
+    print(f"grid benchmarks ({ctx.get('num_cpus', '?')} CPUs at {ctx.get('mhz_per_cpu', '?')} MHz, "
+          f"library build {ctx.get('library_build_type', '?')}), median wall time per operation:")
+    goal_lines = []
+    for name, e in runs.items():
+        if e["error"]:
+            print(f"  {name:<40} SKIPPED: {e['error']}")
+            continue
+        t = e["median"] if e["median"] is not None else (sorted(e["iterations"])[len(e["iterations"]) // 2]
+                                                         if e["iterations"] else float("nan"))
+        extra = ", ".join(f"{k}={v:g}" for k, v in e["counters"].items())
+        print(f"  {name:<40} {t:9.3f} ms   {extra}")
+        if name.startswith("BM_ObservationUpdate"):
+            verdict = "meets" if t <= OBSERVATION_GOAL_MS else "MISSES"
+            goal_lines.append(f"  {name}: {t:.3f} ms {verdict} the <= {OBSERVATION_GOAL_MS:g} ms goal "
+                              f"({t / OBSERVATION_GOAL_MS * 100:.0f} % of it)")
+    if goal_lines:
+        print("SPEC 7 goal, grid observation update on 400x400 cells <= 2 ms:")
+        print("\n".join(goal_lines))
+
+
+def parse_wrk(path):
+    text = open(path).read()
+    m = re.search(r"^WRK_JSON (\{.*\})$", text, re.M)
+    if not m:
+        raise SystemExit(f"bench_report: no WRK_JSON line in {path} (did wrk run with bench/wrk_report.lua?)")
+    return json.loads(m.group(1))
+
+
+def parse_ss(path):
+    """Server-side sockets of the port: how many there were and how many had sent no byte (never served)."""
+    try:
+        text = open(path).read()
+    except OSError:
+        return None
+    # `ss -tniH`: one line per socket (Recv-Q Send-Q local peer), then its indented TCP info line(s).
+    infos = []
+    for line in text.splitlines():
+        if not line.strip():
+            continue
+        if line[:1].isspace() and infos:
+            infos[-1] += " " + line
+        else:
+            infos.append(line)
+    sockets = len(infos)
+    served = 0
+    for info in infos:
+        m = re.search(r"bytes_sent:(\d+)", info)
+        if m and int(m.group(1)) > 0:
+            served += 1
+    return {"sockets": sockets, "served": served, "starved": sockets - served}
+
+
+def http(out_path, manifest_path):
+    runs = []
+    for line in open(manifest_path):
+        line = line.rstrip("\n")
+        if not line:
+            continue
+        key, description, url, wrk_path, ss_path, body_bytes, connections = line.split("\t")
+        w = parse_wrk(wrk_path)
+        seconds = w["duration_us"] / 1e6
+        lat = {k: v / 1000.0 for k, v in w["latency_us"].items()}  # ms
+        errors = sum(w["errors"].values())
+        runs.append({
+            "key": key, "description": description, "url": url, "body_bytes": int(body_bytes),
+            "connections": int(connections), "requests": w["requests"], "duration_s": seconds,
+            "requests_per_s": w["requests"] / seconds if seconds > 0 else 0.0,
+            "latency_ms": lat, "errors": w["errors"], "error_count": errors,
+            "server_sockets": parse_ss(ss_path),
+        })
+    by_key = {r["key"]: r for r in runs}
+
+    print(f"{'':<46}{'req/s':>10}{'p50 ms':>9}{'p90 ms':>9}{'p99 ms':>9}{'max ms':>9}{'errors':>8}{'served conns':>14}")
+    for r in runs:
+        s = r["server_sockets"]
+        conns = f"{s['served']}/{r['connections']}" if s else "?"
+        lat = r["latency_ms"]
+        print(f"{r['description']:<46}{r['requests_per_s']:>10.0f}{lat['p50']:>9.3f}{lat['p90']:>9.3f}"
+              f"{lat['p99']:>9.3f}{lat['max']:>9.3f}{r['error_count']:>8}{conns:>14}")
+    ratios = {}
+    a = by_key.get("anchordb")
+    for peer_key in ("peer", "peer_nodelay"):
+        p = by_key.get(peer_key)
+        if not a or not p:
+            continue
+        ratio = {
+            "requests_per_s": a["requests_per_s"] / p["requests_per_s"] if p["requests_per_s"] else None,
+            "p50": a["latency_ms"]["p50"] / p["latency_ms"]["p50"] if p["latency_ms"]["p50"] else None,
+            "p99": a["latency_ms"]["p99"] / p["latency_ms"]["p99"] if p["latency_ms"]["p99"] else None,
+        }
+        ratios[f"anchordb/{peer_key}"] = ratio
+        fmt = lambda v: f"{v:.3f}" if v is not None else "n/a"
+        print(f"{'ratio anchordb / ' + p['description']:<46}{fmt(ratio['requests_per_s']):>10}"
+              f"{fmt(ratio['p50']):>9}{'':>9}{fmt(ratio['p99']):>9}")
+
+    warnings = []
+    for r in runs:
+        s = r["server_sockets"]
+        if s and s["starved"] > 0:
+            warnings.append(
+                f"{r['description']}: {s['starved']} of {s['sockets']} connections had received no response "
+                f"{'' if s['sockets'] == r['connections'] else '(sockets seen ' + str(s['sockets']) + ') '}"
+                f"when sampled late in the run; req/s and latency above come from the {s['served']} served "
+                f"connections only (wrk leaves unanswered requests out of its histogram)")
+        if r["error_count"]:
+            warnings.append(f"{r['description']}: wrk counted errors {r['errors']}")
+    if a:
+        ok = a["requests_per_s"] >= READ_GOAL_RPS and a["latency_ms"]["p99"] <= READ_GOAL_P99_MS and not (
+            a["server_sockets"] and a["server_sockets"]["starved"])
+        print(f"SPEC 7 goal, read queries >= {READ_GOAL_RPS:.0f} req/s with p99 <= {READ_GOAL_P99_MS:g} ms: anchordb "
+              f"{a['requests_per_s']:.0f} req/s, p99 {a['latency_ms']['p99']:.3f} ms -> {'met' if ok else 'NOT met'}")
+    for w in warnings:
+        print("WARNING: " + w)
+
+    with open(out_path, "w") as f:
+        json.dump({"runs": runs, "ratios": ratios, "warnings": warnings,
+                   "goal": {"requests_per_s": READ_GOAL_RPS, "p99_ms": READ_GOAL_P99_MS}}, f, indent=2)
+        f.write("\n")
+
+
+def main(argv):
+    if len(argv) == 3 and argv[1] == "grid":
+        grid(argv[2])
+    elif len(argv) == 4 and argv[1] == "http":
+        http(argv[2], argv[3])
+    else:
+        print(__doc__, file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

@@ -1,0 +1,91 @@
+#include "engine/scene/scene_model.h"
+
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+namespace anchordb::engine {
+
+SceneModelState NewSceneModel(int width, int height) {
+  const std::size_t n = static_cast<std::size_t>(width) * height;
+  SceneModelState s;
+  s.width = width;
+  s.height = height;
+  s.background_m.assign(n, 0.0f);
+  s.weight.assign(n, 1.0f);
+  s.movable.assign(n, 0);
+  s.dynamic.assign(n, 0);
+  return s;
+}
+
+FrameCounts ApplyFrame(SceneModelState& state, std::span<const std::uint16_t> depth, double units_per_m,
+                       std::span<const std::uint8_t> dynamic_mask, const SceneModelParams& params) {
+  FrameCounts counts;
+  const std::size_t n = state.background_m.size();
+  const bool has_mask = !dynamic_mask.empty();
+  const bool exclude = params.dynamic_mode == DynamicMode::kExcludeFromInput;
+  const float beta = static_cast<float>(params.beta);
+  const float metres_per_unit = static_cast<float>(1.0 / units_per_m);
+  float* s_bg = state.background_m.data();
+  float* s_w = state.weight.data();
+  std::uint8_t* s_mov = state.movable.data();
+  std::uint8_t* s_dyn = state.dynamic.data();
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool in_d = has_mask && dynamic_mask[i] != 0;
+    if (in_d && exclude) {  // F'_t = F_t \ D_t
+      s_mov[i] = 0;
+      s_dyn[i] = 1;
+      ++counts.dynamic;
+      continue;
+    }
+    if (depth[i] == 0) {
+      ++counts.no_depth;
+      continue;
+    }
+    const float f = depth[i] * metres_per_unit;
+    const float s = s_bg[i];
+    bool moved = false;
+    if (std::abs(s - f) < beta * s) {
+      s_bg[i] = s + (f - s) / s_w[i];
+      s_w[i] += 1.0f;
+      ++counts.supported;
+    } else if (f > s) {
+      s_bg[i] = f;
+      s_w[i] = 1.0f;
+      ++counts.reset;
+    } else {
+      moved = true;
+    }
+    // eqs. 3.4-3.5 (in exclude mode in_d is false here, so this is plain O_t).
+    s_mov[i] = moved && !in_d;
+    s_dyn[i] = moved && in_d;
+    counts.movable += s_mov[i];
+    counts.dynamic += s_dyn[i];
+  }
+  ++state.frames;
+  return counts;
+}
+
+std::vector<std::uint8_t> CleanMovable(const std::vector<std::uint8_t>& movable, int width, int height, int window,
+                                       double min_fraction) {
+  const cv::Mat m(height, width, CV_8U, const_cast<std::uint8_t*>(movable.data()));
+  cv::Mat sum;
+  cv::integral(m, sum, CV_32S);  // (height+1) x (width+1)
+  const int r = window / 2;
+  const int others = window * window - 1;
+  std::vector<std::uint8_t> out(movable.size(), 0);
+  for (int y = 0; y < height; ++y) {
+    const int y0 = std::max(0, y - r), y1 = std::min(height, y + r + 1);
+    const int* top = sum.ptr<int>(y0);
+    const int* bottom = sum.ptr<int>(y1);
+    for (int x = 0; x < width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * width + x;
+      if (!movable[i]) continue;
+      const int x0 = std::max(0, x - r), x1 = std::min(width, x + r + 1);
+      const int count = bottom[x1] - bottom[x0] - top[x1] + top[x0] - 1;  // without the pixel itself
+      out[i] = count >= min_fraction * others ? 1 : 0;
+    }
+  }
+  return out;
+}
+
+}  // namespace anchordb::engine
