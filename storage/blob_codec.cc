@@ -30,6 +30,37 @@ T Get(std::string_view in, std::size_t& pos) {
   return v;
 }
 
+std::string DeltaShuffle16(std::string_view in, std::size_t row) {
+  const std::size_t n = in.size() / 2;
+  std::string out(in.size(), '\0');
+  std::uint16_t prev = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint16_t v;
+    std::memcpy(&v, in.data() + 2 * i, 2);
+    if (i % row == 0) prev = 0;
+    const std::uint16_t d = static_cast<std::uint16_t>(v - prev);
+    prev = v;
+    out[i] = static_cast<char>(d & 0xff);
+    out[n + i] = static_cast<char>(d >> 8);
+  }
+  return out;
+}
+
+void UndoDeltaShuffle16(std::string& bytes, std::size_t row) {
+  const std::size_t n = bytes.size() / 2;
+  std::string out(bytes.size(), '\0');
+  std::uint16_t prev = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i % row == 0) prev = 0;
+    const std::uint16_t d = static_cast<std::uint16_t>(static_cast<std::uint8_t>(bytes[i]) |
+                                                       (static_cast<std::uint8_t>(bytes[n + i]) << 8));
+    const std::uint16_t v = static_cast<std::uint16_t>(prev + d);
+    prev = v;
+    std::memcpy(out.data() + 2 * i, &v, 2);
+  }
+  bytes.swap(out);
+}
+
 }  // namespace
 
 std::size_t ElementSize(BlobElement e) {
@@ -45,15 +76,27 @@ std::size_t ElementSize(BlobElement e) {
   return 0;
 }
 
-std::string EncodeBlob(BlobElement element, const std::vector<std::uint32_t>& shape, std::string_view payload, int level) {
+std::string EncodeBlob(BlobElement element, const std::vector<std::uint32_t>& shape, std::string_view payload, int level,
+                       BlobFilter filter) {
   if (shape.empty() || shape.size() > 4) throw Error(ErrorCode::kInternal, "blob shape must have 1-4 dimensions");
   std::uint64_t expected = ElementSize(element);
   for (auto d : shape) expected *= d;
   if (expected != payload.size()) throw Error(ErrorCode::kInternal, "blob payload size does not match its shape");
+  std::string filtered;
+  if (filter == BlobFilter::kDeltaShuffle16) {
+    if (element != BlobElement::kU16 && element != BlobElement::kI16) {
+      throw Error(ErrorCode::kInternal, "the delta-shuffle filter applies to 16-bit elements only");
+    }
+    filtered = DeltaShuffle16(payload, shape.back() == 0 ? 1 : shape.back());
+    payload = filtered;
+  }
   std::string out(kMagic, 4);
   Put<std::uint16_t>(out, kFormatVersion);
   Put<std::uint8_t>(out, static_cast<std::uint8_t>(element));
   Put<std::uint8_t>(out, static_cast<std::uint8_t>(shape.size()));
+  Put<std::uint8_t>(out, static_cast<std::uint8_t>(filter));
+  Put<std::uint8_t>(out, 0);
+  Put<std::uint16_t>(out, 0);
   for (auto d : shape) Put<std::uint32_t>(out, d);
   Put<std::uint64_t>(out, payload.size());
   const std::size_t header = out.size();
@@ -79,6 +122,9 @@ DecodedBlob DecodeBlob(std::string_view blob) {
   out.element = static_cast<BlobElement>(element);
   const auto ndims = Get<std::uint8_t>(blob, pos);
   if (ndims < 1 || ndims > 4) Corrupt("bad number of dimensions");
+  const auto filter = Get<std::uint8_t>(blob, pos);
+  if (filter > 1) Corrupt("unknown filter " + std::to_string(filter));
+  pos += 3;  // reserved
   std::uint64_t expected = ElementSize(out.element);
   for (int i = 0; i < ndims; ++i) {
     out.shape.push_back(Get<std::uint32_t>(blob, pos));
@@ -94,6 +140,10 @@ DecodedBlob DecodeBlob(std::string_view blob) {
   out.bytes.resize(size);
   const std::size_t n = ZSTD_decompress(out.bytes.data(), out.bytes.size(), frame, frame_size);
   if (ZSTD_isError(n) || n != size) Corrupt(std::string("zstd: ") + (ZSTD_isError(n) ? ZSTD_getErrorName(n) : "short"));
+  if (filter == static_cast<std::uint8_t>(BlobFilter::kDeltaShuffle16)) {
+    if (ElementSize(out.element) != 2) Corrupt("delta-shuffle filter on a non-16-bit blob");
+    UndoDeltaShuffle16(out.bytes, out.shape.back() == 0 ? 1 : out.shape.back());
+  }
   return out;
 }
 
