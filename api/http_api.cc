@@ -59,8 +59,10 @@ const std::string& PathParams::operator[](const std::string& name) const {
   throw Error(ErrorCode::kInternal, "route has no path parameter '" + name + "'");
 }
 
-HttpApi::HttpApi(GridService& service, HttpOptions options) : service_(service), options_(std::move(options)) {
+HttpApi::HttpApi(GridService& grid, SceneService& scenes, HttpOptions options)
+    : service_(grid), scenes_(scenes), options_(std::move(options)) {
   AddRoutes();
+  AddSceneRoutes();
 }
 
 void HttpApi::Add(std::string method, std::string pattern, Role role, std::string summary, Handler handler) {

@@ -5,6 +5,7 @@
 // Eigen must come before httplib.h: httplib pulls in <resolv.h>, whose `_res` macro breaks Eigen's headers.
 #include "api/grid_service.h"
 #include "api/metrics.h"
+#include "api/scene_service.h"
 #include "schema/error.h"
 
 #include <httplib.h>
@@ -62,7 +63,7 @@ struct HttpOptions {
 
 class HttpApi {
  public:
-  HttpApi(GridService& service, HttpOptions options);
+  HttpApi(GridService& grid, SceneService& scenes, HttpOptions options);
 
   const std::vector<Route>& routes() const { return routes_; }
   Metrics& metrics() { return metrics_; }
@@ -74,11 +75,13 @@ class HttpApi {
 
  private:
   void AddRoutes();
+  void AddSceneRoutes();
   void Add(std::string method, std::string pattern, Role role, std::string summary, Handler handler);
   void Dispatch(const Route& route, const std::vector<std::string>& names, const httplib::Request& req,
                 httplib::Response& res);
 
   GridService& service_;
+  SceneService& scenes_;
   HttpOptions options_;
   Metrics metrics_;
   std::vector<Route> routes_;

@@ -51,7 +51,8 @@ const std::vector<Binding>& Bindings() {
       Bind("db", "SQLite database file (created and migrated at start-up)", &Config::db),
       Bind("bind", "address to listen on; any non-loopback address requires API tokens", &Config::bind),
       Bind("port", "TCP port (0 = any free port, printed at start-up)", &Config::port, 0, 65535),
-      Bind("threads", "HTTP worker threads", &Config::threads, 1, 256),
+      Bind("threads", "HTTP worker threads; cpp-httplib holds one per open keep-alive connection, so this bounds the "
+                      "connections served at once", &Config::threads, 1, 1024),
       Bind("auth", "auto (open on loopback, tokens required elsewhere), required, or off (loopback only)", &Config::auth),
       Bind("synchronous", "SQLite synchronous mode: FULL (fsync every commit) or NORMAL", &Config::synchronous),
       Bind("busy_timeout_ms", "how long SQLite waits for a lock before giving up [ms]", &Config::busy_timeout_ms, 0, 600000),
@@ -79,6 +80,9 @@ const std::vector<Binding>& Bindings() {
       Bind("viewpoint_weight_position", "weight of the position-relative-to-person score", &Config::viewpoint_weight_position, 0, 1),
       Bind("viewpoint_weight_travel", "weight of the travel score", &Config::viewpoint_weight_travel, 0, 1),
       Bind("viewpoint_seed", "seed of the k-means initialisation", &Config::viewpoint_seed, 0, 9.0e15),
+      Bind("scene_persist_every_frames", "frames between checkpoints of an observing scene model (1 = every frame durable)",
+           &Config::scene_persist_every_frames, 1, 1e6),
+      Bind("scene_max_image_side", "largest camera width or height of a scene model [px]", &Config::scene_max_image_side, 1, 16384),
   };
   return kBindings;
 }

@@ -16,7 +16,7 @@ struct Config {
   std::string db = "./var/anchordb.sqlite";
   std::string bind = "127.0.0.1";
   int port = 8765;
-  int threads = 8;
+  int threads = 32;
   std::string auth = "auto";
   std::string synchronous = "FULL";
   int busy_timeout_ms = 5000;
@@ -43,6 +43,8 @@ struct Config {
   double viewpoint_weight_position = 0.7;
   double viewpoint_weight_travel = 0.3;
   std::int64_t viewpoint_seed = 42;
+  int scene_persist_every_frames = 30;
+  int scene_max_image_side = 4096;
 };
 
 struct SettingInfo {

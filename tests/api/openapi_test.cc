@@ -16,7 +16,8 @@ TEST(OpenApiTest, DocumentMatchesRouteTable) {
   so.path = dir.File("db.sqlite");
   storage::Store store(so);
   GridService service(store, {}, {});
-  HttpApi api(service, {});
+  SceneService scenes(store, {});
+  HttpApi api(service, scenes, {});
   const Json doc = Json::parse(HttpApi::OpenApiDocument());
   ASSERT_TRUE(doc.contains("paths"));
   std::set<std::string> registered, documented;

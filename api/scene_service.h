@@ -1,0 +1,65 @@
+#pragma once
+// Scene models anchored at camera poses (thesis 3.2-3.3) and their keyframes, behind the /scenes and /keyframes
+// routes. Observing models live in memory (one mutex each) and are persisted as versioned blobs every
+// `persist_every_frames` frames, on close and at shutdown; a model not in memory is loaded from the database on
+// first use, so a restarted server continues an open model where its last persisted state stopped.
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "api/grid_service.h"
+#include "engine/scene/scene_model.h"
+#include "storage/scene_repository.h"
+
+namespace anchordb::api {
+
+struct SceneLimits {
+  int max_image_side = 4096;       // width and height of a model's camera
+  int persist_every_frames = 30;   // frames between state checkpoints (1 = every frame is durable when answered)
+};
+
+struct FrameInput {
+  std::string_view body;           // the request body, or the `depth` part of a multipart body
+  bool png = true;                 // PNG, else raw little-endian uint16
+  std::optional<std::string_view> dynamic_png;  // 8-bit mask
+  std::optional<std::int64_t> stamp_ns;
+  std::optional<double> depth_scale;            // units per metre, overrides the model's
+};
+
+class SceneService {
+ public:
+  SceneService(storage::Store& store, SceneLimits limits);
+  ~SceneService();  // persists every model in memory
+
+  Json Open(const std::string& map, const Json& body);
+  Json AddFrame(const std::string& map, std::int64_t id, const FrameInput& frame);
+  Json Get(const std::string& map, std::int64_t id);
+  // layer: static | movable | dynamic | reliability; format: json | png | raw
+  ExportedLayer Layer(const std::string& map, std::int64_t id, const std::string& layer, const std::string& format,
+                      bool clean);
+  Json Keyframe(const std::string& map, std::int64_t id);
+  Json Close(const std::string& map, std::int64_t id);
+  Json List(const std::string& map, const storage::SceneFilter& filter);
+  Json GetKeyframe(const std::string& map, std::int64_t id);
+  // which: depth | background (16-bit PNG, mm)
+  ExportedLayer KeyframeImage(const std::string& map, std::int64_t id, const std::string& which);
+
+  // Writes every in-memory model whose state changed since its last checkpoint.
+  void PersistAll();
+
+ private:
+  struct Model;
+  std::shared_ptr<Model> Acquire(const std::string& map, std::int64_t id);
+  void Persist(Model& model);
+  std::int64_t StoreKeyframe(Model& model, const std::string& kind, std::int64_t stamp_ns);
+  Json Describe(const Model& model) const;
+
+  storage::Store& store_;
+  SceneLimits limits_;
+  std::mutex models_mutex_;
+  std::map<std::int64_t, std::shared_ptr<Model>> models_;
+};
+
+}  // namespace anchordb::api

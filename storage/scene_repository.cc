@@ -1,0 +1,155 @@
+#include "storage/scene_repository.h"
+
+#include "schema/error.h"
+
+namespace anchordb::storage {
+namespace {
+
+void BindOptional(Statement& s, int i, const std::optional<std::int64_t>& v) {
+  if (v) s.Bind(i, *v); else s.BindNull(i);
+}
+
+std::optional<std::int64_t> OptionalInt(const Statement& s, int c) {
+  if (s.IsNull(c)) return std::nullopt;
+  return s.Int(c);
+}
+
+constexpr const char* kSceneColumns =
+    "id, map_id, status, superseded_by, intrinsics, pose, x_m, y_m, z_m, params, merge_report, started_ns, ended_ns, "
+    "last_frame_ns, frames, state_version";
+
+SceneRecord ReadScene(Statement& s, bool with_state) {
+  SceneRecord r;
+  r.id = s.Int(0);
+  r.map_id = s.Text(1);
+  r.status = s.Text(2);
+  r.superseded_by = OptionalInt(s, 3);
+  r.intrinsics_json = s.Text(4);
+  r.pose_json = s.Text(5);
+  r.x_m = s.Double(6);
+  r.y_m = s.Double(7);
+  r.z_m = s.Double(8);
+  r.params_json = s.Text(9);
+  r.merge_report_json = s.Text(10);
+  r.started_ns = s.Int(11);
+  r.ended_ns = OptionalInt(s, 12);
+  r.last_frame_ns = OptionalInt(s, 13);
+  r.frames = s.Int(14);
+  r.state_version = s.Int(15);
+  if (with_state) {
+    r.background = s.Blob(16);
+    r.weight = s.Blob(17);
+    r.labels = s.Blob(18);
+  }
+  return r;
+}
+
+}  // namespace
+
+std::int64_t InsertScene(Connection& c, const SceneRecord& r) {
+  Statement s(c, "INSERT INTO scene_models (map_id, status, intrinsics, pose, x_m, y_m, z_m, params, merge_report, "
+                 "started_ns) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+  s.Bind(1, r.map_id).Bind(2, r.status).Bind(3, r.intrinsics_json).Bind(4, r.pose_json).Bind(5, r.x_m).Bind(6, r.y_m)
+      .Bind(7, r.z_m).Bind(8, r.params_json).Bind(9, r.merge_report_json).Bind(10, r.started_ns).Run();
+  return sqlite3_last_insert_rowid(c.handle());
+}
+
+std::optional<SceneRecord> FindScene(Connection& c, const std::string& map_id, std::int64_t id, bool with_state) {
+  const std::string sql = std::string("SELECT ") + kSceneColumns + (with_state ? ", background, weight, labels" : "") +
+                          " FROM scene_models WHERE map_id = ? AND id = ?";
+  Statement s(c, sql);
+  s.Bind(1, map_id).Bind(2, id);
+  if (!s.Step()) return std::nullopt;
+  return ReadScene(s, with_state);
+}
+
+std::vector<SceneRecord> ListScenes(Connection& c, const std::string& map_id, const SceneFilter& f) {
+  std::string sql = std::string("SELECT ") + kSceneColumns + " FROM scene_models m WHERE map_id = ?1";
+  if (f.status) sql += " AND status = ?2";
+  if (f.near_m) {
+    sql += " AND id IN (SELECT id FROM scene_models_rtree WHERE min_x <= ?3 + ?6 AND max_x >= ?3 - ?6 AND "
+           "min_y <= ?4 + ?6 AND max_y >= ?4 - ?6 AND min_z <= ?5 + ?6 AND max_z >= ?5 - ?6)"
+           " AND (x_m - ?3) * (x_m - ?3) + (y_m - ?4) * (y_m - ?4) + (z_m - ?5) * (z_m - ?5) <= ?6 * ?6";
+  }
+  sql += " ORDER BY id DESC LIMIT ?7";
+  Statement s(c, sql);
+  s.Bind(1, map_id);
+  if (f.status) s.Bind(2, *f.status);
+  if (f.near_m) s.Bind(3, f.near_m->x()).Bind(4, f.near_m->y()).Bind(5, f.near_m->z()).Bind(6, f.radius_m);
+  s.Bind(7, static_cast<std::int64_t>(f.limit));
+  std::vector<SceneRecord> out;
+  while (s.Step()) out.push_back(ReadScene(s, false));
+  return out;
+}
+
+void UpdateSceneState(Connection& c, const SceneRecord& r, std::int64_t expected) {
+  Statement s(c, "UPDATE scene_models SET background = ?, weight = ?, labels = ?, frames = ?, last_frame_ns = ?, "
+                 "state_version = ?, merge_report = ? WHERE id = ? AND state_version = ?");
+  s.BindBlob(1, r.background).BindBlob(2, r.weight).BindBlob(3, r.labels).Bind(4, r.frames);
+  BindOptional(s, 5, r.last_frame_ns);
+  s.Bind(6, r.state_version).Bind(7, r.merge_report_json).Bind(8, r.id).Bind(9, expected).Run();
+  if (c.Changes() != 1) {
+    throw Error(ErrorCode::kConflict, "scene model " + std::to_string(r.id) + " was changed concurrently");
+  }
+}
+
+void UpdateSceneStatus(Connection& c, std::int64_t id, const std::string& status, std::optional<std::int64_t> ended_ns,
+                       std::optional<std::int64_t> superseded_by) {
+  Statement s(c, "UPDATE scene_models SET status = ?, ended_ns = coalesce(?, ended_ns), "
+                 "superseded_by = coalesce(?, superseded_by) WHERE id = ?");
+  s.Bind(1, status);
+  BindOptional(s, 2, ended_ns);
+  BindOptional(s, 3, superseded_by);
+  s.Bind(4, id).Run();
+}
+
+std::int64_t InsertKeyframe(Connection& c, const KeyframeRecord& k) {
+  Statement s(c, "INSERT INTO keyframes (map_id, scene_id, kind, stamp_ns, width, height, depth, background, raw_bytes, "
+                 "stored_bytes, pinned) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+  s.Bind(1, k.map_id).Bind(2, k.scene_id).Bind(3, k.kind).Bind(4, k.stamp_ns).Bind(5, static_cast<std::int64_t>(k.width))
+      .Bind(6, static_cast<std::int64_t>(k.height)).BindBlob(7, k.depth).BindBlob(8, k.background).Bind(9, k.raw_bytes)
+      .Bind(10, k.stored_bytes).Bind(11, static_cast<std::int64_t>(k.pinned)).Run();
+  return sqlite3_last_insert_rowid(c.handle());
+}
+
+namespace {
+KeyframeRecord ReadKeyframe(Statement& s, bool with_images) {
+  KeyframeRecord k;
+  k.id = s.Int(0);
+  k.map_id = s.Text(1);
+  k.scene_id = s.Int(2);
+  k.kind = s.Text(3);
+  k.stamp_ns = s.Int(4);
+  k.width = static_cast<int>(s.Int(5));
+  k.height = static_cast<int>(s.Int(6));
+  k.raw_bytes = s.Int(7);
+  k.stored_bytes = s.Int(8);
+  k.pinned = s.Int(9) != 0;
+  if (with_images) {
+    k.depth = s.Blob(10);
+    k.background = s.Blob(11);
+  }
+  return k;
+}
+constexpr const char* kKeyframeColumns =
+    "id, map_id, scene_id, kind, stamp_ns, width, height, raw_bytes, stored_bytes, pinned";
+}  // namespace
+
+std::optional<KeyframeRecord> FindKeyframe(Connection& c, const std::string& map_id, std::int64_t id, bool with_images) {
+  Statement s(c, std::string("SELECT ") + kKeyframeColumns + (with_images ? ", depth, background" : "") +
+                     " FROM keyframes WHERE map_id = ? AND id = ?");
+  s.Bind(1, map_id).Bind(2, id);
+  if (!s.Step()) return std::nullopt;
+  return ReadKeyframe(s, with_images);
+}
+
+std::vector<KeyframeRecord> ListKeyframes(Connection& c, const std::string& map_id, std::int64_t scene_id) {
+  Statement s(c, std::string("SELECT ") + kKeyframeColumns +
+                     " FROM keyframes WHERE map_id = ? AND scene_id = ? ORDER BY stamp_ns, id");
+  s.Bind(1, map_id).Bind(2, scene_id);
+  std::vector<KeyframeRecord> out;
+  while (s.Step()) out.push_back(ReadKeyframe(s, false));
+  return out;
+}
+
+}  // namespace anchordb::storage

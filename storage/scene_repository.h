@@ -1,0 +1,67 @@
+#pragma once
+// SQL for scene models and keyframes.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "storage/repositories.h"
+#include "storage/sqlite.h"
+
+namespace anchordb::storage {
+
+struct SceneRecord {
+  std::int64_t id = 0;
+  std::string map_id;
+  std::string status = "observing";
+  std::optional<std::int64_t> superseded_by;
+  std::string intrinsics_json;
+  std::string pose_json;
+  double x_m = 0, y_m = 0, z_m = 0;
+  std::string params_json;
+  std::string merge_report_json = "{}";
+  std::int64_t started_ns = 0;
+  std::optional<std::int64_t> ended_ns;
+  std::optional<std::int64_t> last_frame_ns;
+  std::int64_t frames = 0;
+  std::int64_t state_version = 0;
+  // State blobs; empty when not loaded or never persisted.
+  std::string background;
+  std::string weight;
+  std::string labels;
+};
+
+// Inserts and returns the new id.
+std::int64_t InsertScene(Connection& c, const SceneRecord& scene);
+std::optional<SceneRecord> FindScene(Connection& c, const std::string& map_id, std::int64_t id, bool with_state);
+// Scenes of a map, newest first; near: camera within radius_m of the point (R*Tree, then exact).
+struct SceneFilter {
+  std::optional<Eigen::Vector3d> near_m;
+  double radius_m = 0.0;
+  std::optional<std::string> status;
+  int limit = 100;
+};
+std::vector<SceneRecord> ListScenes(Connection& c, const std::string& map_id, const SceneFilter& filter);
+// Persists the state (and frames, last_frame_ns, state_version); kConflict if the stored version is not `expected`.
+void UpdateSceneState(Connection& c, const SceneRecord& scene, std::int64_t expected_state_version);
+void UpdateSceneStatus(Connection& c, std::int64_t id, const std::string& status, std::optional<std::int64_t> ended_ns,
+                       std::optional<std::int64_t> superseded_by);
+
+struct KeyframeRecord {
+  std::int64_t id = 0;
+  std::string map_id;
+  std::int64_t scene_id = 0;
+  std::string kind;
+  std::int64_t stamp_ns = 0;
+  int width = 0, height = 0;
+  std::string depth;       // blob
+  std::string background;  // blob
+  std::int64_t raw_bytes = 0;
+  std::int64_t stored_bytes = 0;
+  bool pinned = false;
+};
+std::int64_t InsertKeyframe(Connection& c, const KeyframeRecord& keyframe);
+std::optional<KeyframeRecord> FindKeyframe(Connection& c, const std::string& map_id, std::int64_t id, bool with_images);
+std::vector<KeyframeRecord> ListKeyframes(Connection& c, const std::string& map_id, std::int64_t scene_id);
+
+}  // namespace anchordb::storage
