@@ -44,7 +44,7 @@ def grid(path):
                 entry["counters"][k] = v
     ctx = doc.get("context", {})
     print(f"grid benchmarks ({ctx.get('num_cpus', '?')} CPUs at {ctx.get('mhz_per_cpu', '?')} MHz, "
-          f"library build {ctx.get('library_build_type', '?')}), median wall time per operation:")
+          f"Google Benchmark library built {ctx.get('library_build_type', '?')}), median wall time per operation:")
     goal_lines = []
     for name, e in runs.items():
         if e["error"]:
@@ -114,13 +114,14 @@ def http(out_path, manifest_path):
             "server_sockets": parse_ss(ss_path),
         })
     by_key = {r["key"]: r for r in runs}
+    W = max(len("ratio anchordb / " + r["description"]) for r in runs) + 2
 
-    print(f"{'':<46}{'req/s':>10}{'p50 ms':>9}{'p90 ms':>9}{'p99 ms':>9}{'max ms':>9}{'errors':>8}{'served conns':>14}")
+    print(f"{'':<{W}}{'req/s':>10}{'p50 ms':>9}{'p90 ms':>9}{'p99 ms':>9}{'max ms':>9}{'errors':>8}{'served conns':>14}")
     for r in runs:
         s = r["server_sockets"]
         conns = f"{s['served']}/{r['connections']}" if s else "?"
         lat = r["latency_ms"]
-        print(f"{r['description']:<46}{r['requests_per_s']:>10.0f}{lat['p50']:>9.3f}{lat['p90']:>9.3f}"
+        print(f"{r['description']:<{W}}{r['requests_per_s']:>10.0f}{lat['p50']:>9.3f}{lat['p90']:>9.3f}"
               f"{lat['p99']:>9.3f}{lat['max']:>9.3f}{r['error_count']:>8}{conns:>14}")
     ratios = {}
     a = by_key.get("anchordb")
@@ -135,7 +136,7 @@ def http(out_path, manifest_path):
         }
         ratios[f"anchordb/{peer_key}"] = ratio
         fmt = lambda v: f"{v:.3f}" if v is not None else "n/a"
-        print(f"{'ratio anchordb / ' + p['description']:<46}{fmt(ratio['requests_per_s']):>10}"
+        print(f"{'ratio anchordb / ' + p['description']:<{W}}{fmt(ratio['requests_per_s']):>10}"
               f"{fmt(ratio['p50']):>9}{'':>9}{fmt(ratio['p99']):>9}")
 
     warnings = []

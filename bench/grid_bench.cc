@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <numbers>
@@ -232,12 +233,19 @@ void BM_PlanViewpoints_AwsKitchenTable(benchmark::State& state) {
   state.counters["boundary_cells"] = static_cast<double>(plan.boundary_cells);
   state.counters["candidates"] = static_cast<double>(plan.candidate_cells);
   state.counters["clusters"] = plan.clusters;
-  state.SetLabel(std::to_string(occupancy.geometry.width_cells) + "x" + std::to_string(occupancy.geometry.height_cells) +
-                 " AWS small house");
+  std::string label = std::to_string(occupancy.geometry.width_cells) + "x" +
+                      std::to_string(occupancy.geometry.height_cells) + " AWS small house";
+  if (!plan.viewpoints.empty()) {
+    const auto& best = plan.viewpoints.front();
+    char text[96];
+    std::snprintf(text, sizeof(text), "; best (%.2f, %.2f) %s score %.2f", best.position_m.x(), best.position_m.y(),
+                  best.relation.c_str(), best.score);
+    label += text;
+  }
+  state.SetLabel(label);
 }
 
-// ---- blob codec of a 400x400 float layer: a log-odds layer after a few dozen observations (mostly 0, some
-// clamped hits and misses), which is what the store writes after an update.
+// ---- blob codec of a 400x400 float layer
 
 std::vector<float> RealisticLayer() {
   const OccupancyGrid occupancy = MakeApartment();
@@ -258,8 +266,13 @@ std::vector<float> RealisticLayer() {
   return log_odds.cells;
 }
 
-void BM_BlobEncode_400x400_f32(benchmark::State& state) {
-  const std::vector<float> layer = RealisticLayer();
+// Two layers: `sparse` is a log-odds layer after 40 observations (mostly 0, some clamped hits and misses), what
+// the store writes after updates; `noisy` is the region benchmark's probability grid (a random float in every
+// cell), close to zstd's worst case.
+std::vector<float> BlobLayer(bool noisy) { return noisy ? MakeBlobGrid(36).cells : RealisticLayer(); }
+
+void BM_BlobEncode_400x400_f32(benchmark::State& state, bool noisy) {
+  const std::vector<float> layer = BlobLayer(noisy);
   const std::string_view raw = storage::AsBytes(layer);
   std::size_t encoded_size = 0;
   for (auto _ : state) {
@@ -273,8 +286,8 @@ void BM_BlobEncode_400x400_f32(benchmark::State& state) {
   state.SetBytesProcessed(state.iterations() * static_cast<std::int64_t>(raw.size()));
 }
 
-void BM_BlobDecode_400x400_f32(benchmark::State& state) {
-  const std::vector<float> layer = RealisticLayer();
+void BM_BlobDecode_400x400_f32(benchmark::State& state, bool noisy) {
+  const std::vector<float> layer = BlobLayer(noisy);
   const std::string blob = storage::EncodeBlob(storage::BlobElement::kF32, {kCells, kCells}, storage::AsBytes(layer));
   for (auto _ : state) {
     storage::DecodedBlob decoded = storage::DecodeBlob(blob);
@@ -288,8 +301,10 @@ BENCHMARK(BM_ObservationUpdate_Fov1rad_3p5m)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ObservationUpdate_360deg_10m)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ExtractRegions_36blobs)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PlanViewpoints_AwsKitchenTable)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_BlobEncode_400x400_f32)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_BlobDecode_400x400_f32)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_BlobEncode_400x400_f32, sparse, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_BlobEncode_400x400_f32, noisy, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_BlobDecode_400x400_f32, sparse, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_BlobDecode_400x400_f32, noisy, true)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace anchordb::bench

@@ -4,10 +4,10 @@
 // wrk against it and against `anchordb serve` in the same run shows what anchordb's routing, auth, metrics and
 // SQLite read add on top of the HTTP library.
 //
-//   anchordb_http_peer [--bind 127.0.0.1] [--port 0] [--threads 8] [--body_bytes 400] [--tcp_nodelay false]
+//   anchordb_http_peer [--bind 127.0.0.1] [--port 0] [--threads 32] [--body_bytes 400] [--tcp_nodelay true]
 //
-// --tcp_nodelay defaults to false, cpp-httplib's default and what server/main.cc leaves it at; with it off,
-// each response (headers and body written separately) meets Nagle + delayed ACK on keep-alive connections.
+// --threads and --tcp_nodelay default to what server/main.cc uses (32 workers, TCP_NODELAY on); with TCP_NODELAY
+// off, each response (headers and body written separately) meets Nagle + delayed ACK on keep-alive connections.
 //
 // Prints "anchordb_http_peer listening on http://<bind>:<port> ..." on stdout once bound (port 0 = any free
 // port), stops on SIGINT/SIGTERM.
@@ -45,7 +45,7 @@ bool ParseInt(const std::string& text, long lo, long hi, long& out) {
 
 int Usage() {
   std::cerr << "usage: anchordb_http_peer [--bind 127.0.0.1] [--port 0] [--threads 8] [--body_bytes 400] "
-               "[--tcp_nodelay false]\n";
+               "[--tcp_nodelay true]\n";
   return 2;
 }
 
@@ -53,8 +53,8 @@ int Usage() {
 
 int main(int argc, char** argv) {
   std::string bind = "127.0.0.1";
-  long port = 0, threads = 8, body_bytes = 400;
-  bool tcp_nodelay = false;
+  long port = 0, threads = 32, body_bytes = 400;
+  bool tcp_nodelay = true;
   for (int i = 1; i < argc; ++i) {
     std::string flag = argv[i], value;
     if (const auto eq = flag.find('='); eq != std::string::npos) {
@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
     bool ok = true;
     if (flag == "--bind") bind = value;
     else if (flag == "--port") ok = ParseInt(value, 0, 65535, port);
-    else if (flag == "--threads") ok = ParseInt(value, 1, 256, threads);
+    else if (flag == "--threads") ok = ParseInt(value, 1, 1024, threads);
     else if (flag == "--body_bytes") ok = ParseInt(value, 1, 1 << 20, body_bytes);
     else if (flag == "--tcp_nodelay") ok = (value == "true" || value == "false") && ((tcp_nodelay = value == "true"), true);
     else ok = false;
