@@ -1,0 +1,70 @@
+#include "tests/support/server_process.h"
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace anchordb::testing {
+
+ServerProcess::ServerProcess(const std::string& db_path, std::vector<std::string> extra_args) {
+  const char* bin = std::getenv("ANCHORDB_BIN");
+  if (!bin) throw std::runtime_error("ANCHORDB_BIN is not set (ctest sets it to the built anchordb)");
+  std::vector<std::string> args = {bin, "serve", "--db", db_path, "--port", "0", "--log_requests=false"};
+  args.insert(args.end(), extra_args.begin(), extra_args.end());
+  int out[2];
+  if (pipe(out) != 0) throw std::runtime_error("pipe failed");
+  pid_ = fork();
+  if (pid_ < 0) throw std::runtime_error("fork failed");
+  if (pid_ == 0) {
+    dup2(out[1], STDOUT_FILENO);
+    close(out[0]);
+    close(out[1]);
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  close(out[1]);
+  FILE* f = fdopen(out[0], "r");
+  char line[512] = {0};
+  if (!std::fgets(line, sizeof(line), f)) {
+    std::fclose(f);
+    int status = 0;
+    waitpid(pid_, &status, 0);
+    pid_ = -1;
+    throw std::runtime_error("anchordb exited before listening (status " + std::to_string(status) + ")");
+  }
+  std::fclose(f);  // the server writes nothing more to stdout
+  const std::string text(line);
+  const auto colon = text.find(':', text.find("127.0.0.1"));
+  if (colon == std::string::npos) throw std::runtime_error("unexpected first line: " + text);
+  port_ = std::atoi(text.c_str() + colon + 1);
+}
+
+ServerProcess::~ServerProcess() {
+  if (pid_ > 0) Kill();
+}
+
+int ServerProcess::Stop() {
+  if (pid_ <= 0) return -1;
+  kill(pid_, SIGTERM);
+  int status = 0;
+  waitpid(pid_, &status, 0);
+  pid_ = -1;
+  return status;
+}
+
+void ServerProcess::Kill() {
+  if (pid_ <= 0) return;
+  kill(pid_, SIGKILL);
+  int status = 0;
+  waitpid(pid_, &status, 0);
+  pid_ = -1;
+}
+
+}  // namespace anchordb::testing

@@ -1,0 +1,28 @@
+#pragma once
+// Starts the real `anchordb serve` binary on loopback (port 0) for HTTP tests and stops it: SIGTERM (graceful),
+// or SIGKILL (crash). The binary comes from $ANCHORDB_BIN.
+#include <string>
+#include <vector>
+
+namespace anchordb::testing {
+
+class ServerProcess {
+ public:
+  // Starts `anchordb serve --db <db> --port 0 --log_requests=false <extra...>` and waits for its listening line.
+  ServerProcess(const std::string& db_path, std::vector<std::string> extra_args = {});
+  ~ServerProcess();
+  ServerProcess(const ServerProcess&) = delete;
+  ServerProcess& operator=(const ServerProcess&) = delete;
+
+  int port() const { return port_; }
+  // Graceful stop; returns the exit status.
+  int Stop();
+  // kill -9.
+  void Kill();
+
+ private:
+  int pid_ = -1;
+  int port_ = 0;
+};
+
+}  // namespace anchordb::testing
