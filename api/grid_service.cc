@@ -262,9 +262,9 @@ Json GridService::LayerInfo(const std::string& map, const std::string& layer, bo
         const engine::ProbabilityGrid p = EvaluateProbability(c, *record);
         double sum = 0, lo = 1, hi = 0;
         std::size_t above = 0;
-        for (float v : p.cells) sum += v, lo = std::min<double>(lo, v), hi = std::max<double>(hi, v), above += v >= 0.5f;
+        for (float v : p.cells) sum += v, lo = std::min<double>(lo, v), hi = std::max<double>(hi, v), above += v > 0.5f;
         stats = {{"min_probability", lo}, {"max_probability", hi},
-                 {"mean_probability", p.cells.empty() ? 0.0 : sum / p.cells.size()}, {"cells_at_or_above_0_5", above}};
+                 {"mean_probability", p.cells.empty() ? 0.0 : sum / p.cells.size()}, {"cells_above_0_5", above}};
       }
       out["statistics"] = stats;
     }
@@ -308,7 +308,7 @@ ExportedLayer GridService::ExportLayer(const std::string& map, const std::string
       } else {
         const auto p = EvaluateProbability(c, record);
         out.body.resize(p.cells.size());
-        for (std::size_t i = 0; i < p.cells.size(); ++i) out.body[i] = p.cells[i] >= 0.5f ? 1 : 0;
+        for (std::size_t i = 0; i < p.cells.size(); ++i) out.body[i] = p.cells[i] > 0.5f ? 1 : 0;
         out.headers["X-Element"] = "u8-mask-cell-order";
       }
       return out;

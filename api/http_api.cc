@@ -102,6 +102,10 @@ void HttpApi::Dispatch(const Route& route, const std::vector<std::string>& names
   const std::string route_key = route.method + " " + route.pattern;
   std::string log_detail;
   try {
+    // cpp-httplib checks its payload limit against Content-Length only; a chunked body is checked here.
+    if (req.body.size() > options_.max_body_bytes) {
+      throw Error(ErrorCode::kPayloadTooLarge, "request body exceeds " + std::to_string(options_.max_body_bytes) + " bytes");
+    }
     if (options_.auth_required && route.role != Role::kPublic) {
       const std::string header = req.get_header_value("Authorization");
       if (header.rfind("Bearer ", 0) != 0 || header.size() <= 7) {
@@ -115,13 +119,17 @@ void HttpApi::Dispatch(const Route& route, const std::vector<std::string>& names
       }
     }
     std::vector<std::string> values;
-    for (std::size_t i = 1; i < req.matches.size(); ++i) values.push_back(req.matches[i].str());
+    for (std::size_t i = 1; i < req.matches.size(); ++i) {
+      values.push_back(req.matches[i].str());
+      json::CheckId(values.back(), names[i - 1]);  // the route regex admits the characters; this checks the rest
+    }
     Response out = route.handler(req, PathParams(names, std::move(values)));
     res.status = out.status;
     for (const auto& [k, v] : out.headers) res.set_header(k, v);
     res.set_content(std::move(out.body), out.content_type);
   } catch (const Error& e) {
     SetError(res, e.code(), e.what(), e.field());
+    if (e.code() == ErrorCode::kUnauthenticated) res.set_header("WWW-Authenticate", "Bearer");
     log_detail = std::string(" error=") + ErrorCodeName(e.code()) + " message=\"" + e.what() + "\"";
   } catch (const std::bad_alloc&) {
     SetError(res, ErrorCode::kOverloaded, "out of memory while handling the request", "");
@@ -161,13 +169,21 @@ void HttpApi::Mount(httplib::Server& server) {
     if (!res.body.empty()) return;  // a route already wrote its JSON error
     ErrorCode code = res.status >= 500 ? ErrorCode::kInternal : ErrorCode::kInvalidArgument;
     std::string message = "request failed with HTTP status " + std::to_string(res.status);
+    const bool form = req.get_header_value("Content-Type").rfind("application/x-www-form-urlencoded", 0) == 0;
     if (res.status == 404) code = ErrorCode::kNotFound, message = "no route " + req.method + " " + req.path;
-    else if (res.status == 413) code = ErrorCode::kPayloadTooLarge, message = "request body exceeds " + std::to_string(options_.max_body_bytes) + " bytes";
+    else if (res.status == 413 && form) {
+      code = ErrorCode::kPayloadTooLarge;
+      message = "bodies sent as application/x-www-form-urlencoded are limited to 8192 bytes by the HTTP library; "
+                "send JSON with Content-Type: application/json";
+    } else if (res.status == 413) code = ErrorCode::kPayloadTooLarge, message = "request body exceeds " + std::to_string(options_.max_body_bytes) + " bytes";
     else if (res.status == 400) code = ErrorCode::kInvalidArgument, message = "malformed HTTP request";
     else if (res.status == 415) code = ErrorCode::kUnsupportedMediaType, message = "unsupported media type";
     const int status = res.status;
     res.set_content(ErrorBody(code, message, ""), "application/json");
     res.status = status;
+    std::string request_id = req.get_header_value("X-Request-Id");
+    if (!IsSafeRequestId(request_id)) request_id = NextRequestId();
+    res.set_header("X-Request-Id", request_id);
     if (options_.log) options_.log(req.method + " " + req.path + " status=" + std::to_string(status) + " error=" + ErrorCodeName(code));
   });
 }

@@ -69,7 +69,7 @@ const char* FuseOpName(FuseOp op);
 
 struct FuseOperand {
   std::string layer;
-  double threshold = 0.5;  // probability at or above which a cell counts as true
+  double threshold = 0.5;  // probability above which a cell counts as true
 };
 
 enum class LayerKind { kOccupancy, kProbability, kFused, kLabel };

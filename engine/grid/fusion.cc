@@ -6,7 +6,7 @@ namespace anchordb::engine {
 
 MaskGrid Threshold(const ProbabilityGrid& probability, double threshold) {
   MaskGrid mask(probability.geometry, 0);
-  for (std::size_t i = 0; i < mask.cells.size(); ++i) mask.cells[i] = probability.cells[i] >= threshold ? 1 : 0;
+  for (std::size_t i = 0; i < mask.cells.size(); ++i) mask.cells[i] = probability.cells[i] > threshold ? 1 : 0;
   return mask;
 }
 

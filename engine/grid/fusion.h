@@ -6,7 +6,7 @@
 
 namespace anchordb::engine {
 
-// True cells of `probability` (value >= threshold).
+// True cells of `probability` (value strictly above threshold, so never-observed cells at 0.5 are false at 0.5).
 MaskGrid Threshold(const ProbabilityGrid& probability, double threshold);
 
 // and: all true; or: any true; and_not: first true and none of the others; xor: an odd number true.

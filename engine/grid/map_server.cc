@@ -90,7 +90,18 @@ GreyImage DecodePgm(std::string_view b, std::size_t max_pixels) {
 
 }  // namespace
 
+ParsedYaml ParseMapServerYamlUnchecked(std::string_view yaml_text);
+
 ParsedYaml ParseMapServerYaml(std::string_view yaml_text) {
+  try {
+    return ParseMapServerYamlUnchecked(yaml_text);
+  } catch (const YAML::Exception& e) {
+    // Any conversion yaml-cpp refuses (a list where a string belongs, a complex key) is bad input, not a bug.
+    throw Error(ErrorCode::kInvalidArgument, std::string("map yaml has an unexpected structure: ") + e.what(), "yaml");
+  }
+}
+
+ParsedYaml ParseMapServerYamlUnchecked(std::string_view yaml_text) {
   YAML::Node root;
   try {
     root = YAML::Load(std::string(yaml_text));

@@ -10,7 +10,7 @@ std::vector<Region> ExtractRegions(const ProbabilityGrid& probability, double th
   cv::Mat mask(g.height_cells, g.width_cells, CV_8U);  // row = iy
   for (int iy = 0; iy < g.height_cells; ++iy) {
     auto* row = mask.ptr<std::uint8_t>(iy);
-    for (int ix = 0; ix < g.width_cells; ++ix) row[ix] = probability.at(ix, iy) >= threshold ? 255 : 0;
+    for (int ix = 0; ix < g.width_cells; ++ix) row[ix] = probability.at(ix, iy) > threshold ? 255 : 0;
   }
   cv::Mat labels, stats, centroids;
   const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);

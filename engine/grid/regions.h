@@ -17,7 +17,8 @@ struct Region {
   std::vector<int> cells;           // cell indices (iy * width + ix)
 };
 
-// Regions of cells with probability >= threshold whose area is at least min_area_m2, largest first.
+// Regions of cells with probability strictly above threshold whose area is at least min_area_m2, largest first.
+// (Strict, so a never-observed layer, all 0.5, has no region at the default threshold 0.5.)
 std::vector<Region> ExtractRegions(const ProbabilityGrid& probability, double threshold, double min_area_m2);
 
 }  // namespace anchordb::engine

@@ -26,8 +26,12 @@ cv::Mat ObstacleDistanceCells(const OccupancyGrid& occupancy, const OccupancyThr
 }  // namespace
 
 double PositionScore(double a) {
-  const double half_pi = std::numbers::pi / 2.0;
-  return a <= half_pi ? 0.5 + 0.5 * std::sin(a) : std::sin(a);
+  // Class-ordered so that every beside viewpoint outranks every in-front one, which outranks every behind one:
+  // beside [45, 135] deg -> [0.75, 1] peaking at 90; in front [0, 45) -> [0.4, 0.7); behind (135, 180] -> [0, 0.3).
+  const double quarter = std::numbers::pi / 4.0, half = std::numbers::pi / 2.0;
+  if (a < quarter) return 0.4 + 0.3 * a / quarter;
+  if (a > 3 * quarter) return 0.3 * (std::numbers::pi - a) / quarter;
+  return 1.0 - 0.25 * std::abs(a - half) / quarter;
 }
 
 std::vector<double> TravelDistances(const OccupancyGrid& occupancy, const OccupancyThresholds& t, int sx, int sy,

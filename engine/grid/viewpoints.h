@@ -32,7 +32,7 @@ struct Viewpoint {
   Eigen::Vector2d position_m = Eigen::Vector2d::Zero();
   double yaw_rad = 0.0;               // facing the surface centroid
   double score = 0.0;
-  double position_score = 0.0;        // 1 beside the person, 0.5 in front, 0 behind
+  double position_score = 0.0;        // beside 0.75-1, in front 0.4-0.7, behind 0-0.3 (see PositionScore)
   double travel_score = 0.0;
   double travel_distance_m = 0.0;     // shortest 8-connected path from the robot
   double surface_distance_m = 0.0;    // to the nearest surface cell centre
@@ -59,7 +59,8 @@ ViewpointPlan PlanViewpoints(const OccupancyGrid& occupancy, const MaskGrid& sur
 std::vector<double> TravelDistances(const OccupancyGrid& occupancy, const OccupancyThresholds& thresholds, int start_ix,
                                     int start_iy, double clearance_m);
 
-// Position score of a viewpoint at angle `relative_angle_rad` in [0, pi] from the person's heading.
+// Position score of a viewpoint at angle `relative_angle_rad` in [0, pi] from the person's heading; ordered by
+// the relation classes (in front < 45 deg, beside 45-135 deg, behind > 135 deg): beside best, behind worst.
 double PositionScore(double relative_angle_rad);
 
 }  // namespace anchordb::engine

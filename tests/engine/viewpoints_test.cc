@@ -91,9 +91,17 @@ TEST(ViewpointsTest, RobotInsideAWallIsRejected) {
 
 TEST(ViewpointsTest, PositionScoreOrdersBesideFrontBehind) {
   EXPECT_DOUBLE_EQ(PositionScore(M_PI / 2), 1.0);
-  EXPECT_DOUBLE_EQ(PositionScore(0.0), 0.5);
   EXPECT_NEAR(PositionScore(M_PI), 0.0, 1e-12);
-  EXPECT_GT(PositionScore(M_PI / 3), PositionScore(2.5));
+  // Every beside angle beats every in-front angle, which beats every behind angle.
+  double min_beside = 2, max_front = -1, min_front = 2, max_behind = -1;
+  for (int deg = 0; deg <= 180; ++deg) {
+    const double s = PositionScore(deg * M_PI / 180.0);
+    if (deg < 45) max_front = std::max(max_front, s), min_front = std::min(min_front, s);
+    else if (deg <= 135) min_beside = std::min(min_beside, s);
+    else max_behind = std::max(max_behind, s);
+  }
+  EXPECT_GT(min_beside, max_front);
+  EXPECT_GT(min_front, max_behind);
 }
 
 TEST(TravelDistancesTest, ShortestPathAroundAWallAndClosedRoomsUnreachable) {
