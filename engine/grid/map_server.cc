@@ -135,7 +135,12 @@ ParsedYaml ParseMapServerYamlUnchecked(std::string_view yaml_text) {
   if (negate != 0.0 && negate != 1.0) BadYaml("negate", "must be 0 or 1");
   m.negate = static_cast<int>(negate);
   if (root["mode"]) {
-    const std::string mode = root["mode"].as<std::string>();
+    std::string mode;
+    try {
+      mode = root["mode"].as<std::string>();
+    } catch (const YAML::Exception&) {
+      BadYaml("mode", "must be trinary, scale or raw");
+    }
     m.mode_given = true;
     if (mode == "trinary") m.mode = MapMode::kTrinary;
     else if (mode == "scale") m.mode = MapMode::kScale;

@@ -113,7 +113,12 @@ class Server:
         if test is not None:
             test.addCleanup(self.close)
         if start:
-            self.start()
+            try:
+                self.start()
+            except BaseException:
+                if test is None:
+                    self.close()  # nobody else will remove the temporary directory
+                raise
 
     # ---------------------------------------------------------------- lifecycle
 
@@ -352,7 +357,8 @@ def decode_png_grey(data):
             break
     width, height, depth, colour, _, _, interlace = ihdr
     if depth != 8 or colour != 0 or interlace != 0:
-        raise ValueError("only 8-bit grey non-interlaced PNGs are decoded here (got depth %d colour %d)" % (depth, colour))
+        raise ValueError("only 8-bit grey non-interlaced PNGs are decoded here (got depth %d colour %d)" % (
+            depth, colour))
     raw = zlib.decompress(idat)
     out = bytearray()
     prev = bytearray(width)

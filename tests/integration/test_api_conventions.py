@@ -1,6 +1,7 @@
 """API conventions of SPEC section 5 over loopback HTTP: health, settings, Prometheus metrics, request ids, JSON
 errors for unknown routes and for bodies over --max_body_bytes, and the OpenAPI document covering every route."""
 
+import glob
 import http.client
 import json
 import os
@@ -10,7 +11,7 @@ import unittest
 import harness
 
 MAX_BODY = 4096
-ROUTES_CC = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "api", "routes.cc")
+API_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "api")
 
 # One Prometheus sample line: name{labels} value [timestamp]
 SAMPLE = re.compile(r'^([a-zA-Z_:][a-zA-Z0-9_:]*)(\{(?:[a-zA-Z_][a-zA-Z0-9_]*="(?:[^"\\]|\\.)*",?)*\})?'
@@ -188,15 +189,16 @@ class ApiConventionsTest(unittest.TestCase):
     def test_openapi_describes_every_route(self):
         doc = self.c.openapi()
         self.assertTrue(doc["openapi"].startswith("3."), doc.get("openapi"))
-        with open(ROUTES_CC) as f:
-            source = f.read()
-        routes = re.findall(r'Add\("(GET|POST|PUT|DELETE)", "([^"]+)"', source)
+        routes = []
+        for name in sorted(glob.glob(os.path.join(API_DIR, "*.cc"))):  # routes.cc, scene_routes.cc, ...
+            with open(name) as f:
+                routes += re.findall(r'\bAdd\("(GET|POST|PUT|DELETE)", "([^"]+)"', f.read())
         self.assertGreater(len(routes), 15)
         missing = [(m, p) for m, p in routes if m.lower() not in doc["paths"].get(p, {})]
-        self.assertEqual(missing, [], "routes of routes.cc missing from /v1/openapi.json")
+        self.assertEqual(missing, [], "routes of api/*.cc missing from /v1/openapi.json")
         extra = [(m.upper(), p) for p, ops in doc["paths"].items() for m in ops
                  if m in ("get", "post", "put", "delete", "patch") and (m.upper(), p) not in routes]
-        self.assertEqual(extra, [], "operations in /v1/openapi.json that routes.cc does not serve")
+        self.assertEqual(extra, [], "operations in /v1/openapi.json that api/*.cc does not serve")
 
 
 if __name__ == "__main__":
