@@ -1,0 +1,70 @@
+// Frame ingest over loopback HTTP (SPEC section 7: >= 60 frames/s per connection): opens a scene model on a
+// running server and posts rendered 640x480 frames over one keep-alive connection, as PNG and as raw bytes.
+//   anchordb_ingest_bench --port P [--frames N]      prints one JSON line per encoding
+#include "engine/scene/depth_image.h"  // Eigen before httplib.h (see api/http_api.h)
+#include "sim/apartment.h"
+#include "sim/renderer.h"
+
+#include <httplib.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+using namespace anchordb;
+
+int main(int argc, char** argv) {
+  int port = 0, frames = 120;
+  for (int i = 1; i + 1 < argc; ++i) {
+    if (std::strcmp(argv[i], "--port") == 0) port = std::atoi(argv[i + 1]);
+    if (std::strcmp(argv[i], "--frames") == 0) frames = std::atoi(argv[i + 1]);
+  }
+  if (port <= 0 || frames <= 0) {
+    std::fprintf(stderr, "usage: anchordb_ingest_bench --port P [--frames N]\n");
+    return 2;
+  }
+  const sim::SettingScene s = sim::MakeSetting(sim::Setting::kTA, 1);
+  const PinholeIntrinsics K = sim::KinectIntrinsics();
+  std::vector<std::string> png, raw;
+  for (int i = 0; i < 10; ++i) {
+    const sim::Frame f = sim::Render(s.scene, K, s.X_WorldCameraA, sim::SensorModel{}, 7 + i);
+    png.push_back(engine::EncodeDepthPng(f.depth_mm, K.width, K.height));
+    raw.emplace_back(reinterpret_cast<const char*>(f.depth_mm.data()), f.depth_mm.size() * 2);
+  }
+  httplib::Client client("127.0.0.1", port);
+  client.set_keep_alive(true);
+  client.set_tcp_nodelay(true);
+  client.Post("/v1/maps", R"({"id":"ingest"})", "application/json");
+  const Eigen::Quaterniond q(s.X_WorldCameraA.linear());
+  const Eigen::Vector3d t = s.X_WorldCameraA.translation();
+  char body[512];
+  std::snprintf(body, sizeof(body),
+                R"({"camera":{"width":640,"height":480,"fx":%f,"fy":%f,"cx":%f,"cy":%f},"pose":{"position":[%f,%f,%f],"orientation":[%f,%f,%f,%f]}})",
+                K.fx, K.fy, K.cx, K.cy, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
+  for (const char* encoding : {"png", "raw"}) {
+    auto opened = client.Post("/v1/maps/ingest/scenes", body, "application/json");
+    if (!opened || opened->status != 201) {
+      std::fprintf(stderr, "cannot open a scene model: %s\n", opened ? opened->body.c_str() : "no response");
+      return 1;
+    }
+    const std::string id = opened->body.substr(opened->body.find("\"id\":") + 5, opened->body.find(',', opened->body.find("\"id\":")) - opened->body.find("\"id\":") - 5);
+    const std::string path = "/v1/maps/ingest/scenes/" + id + "/frames";
+    const bool is_png = std::strcmp(encoding, "png") == 0;
+    std::size_t bytes = 0;
+    const auto start = std::chrono::steady_clock::now();
+    for (int i = 0; i < frames; ++i) {
+      const std::string& b = is_png ? png[i % png.size()] : raw[i % raw.size()];
+      bytes += b.size();
+      auto r = client.Post(path, b, is_png ? "image/png" : "application/octet-stream");
+      if (!r || r->status != 200) {
+        std::fprintf(stderr, "frame %d failed: %s\n", i, r ? r->body.c_str() : "no response");
+        return 1;
+      }
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("{\"encoding\":\"%s\",\"frames\":%d,\"seconds\":%.3f,\"frames_per_s\":%.1f,\"mean_body_bytes\":%zu}\n",
+                encoding, frames, seconds, frames / seconds, bytes / frames);
+  }
+  return 0;
+}
