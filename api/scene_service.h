@@ -20,6 +20,17 @@ struct SceneLimits {
   int persist_every_frames = 30;   // frames between state checkpoints (1 = every frame is durable when answered)
 };
 
+// Which earlier models a new one merges (3.3.3) and which it supersedes (3.3.4).
+struct MergeSettings {
+  int max_candidates = 5;                 // newest first
+  double max_age_s = 30.0 * 24 * 3600;    // older models are not merged
+  double candidate_radius_m = 6.0;        // camera positions farther apart are not considered
+  double min_overlap = 0.05;              // fraction of the earlier background inside the new view frustum
+  double frustum_far_m = 5.0;             // rear boundary of a view frustum (sensor range)
+  double supersede_distance_m = 0.15;     // a new model this close ...
+  double supersede_angle_rad = 0.1745;    // ... looking this similarly supersedes the older one
+};
+
 struct FrameInput {
   std::string_view body;           // the request body, or the `depth` part of a multipart body
   bool png = true;                 // PNG, else raw little-endian uint16
@@ -30,7 +41,7 @@ struct FrameInput {
 
 class SceneService {
  public:
-  SceneService(storage::Store& store, SceneLimits limits);
+  SceneService(storage::Store& store, SceneLimits limits, MergeSettings merge = {});
   ~SceneService();  // persists every model in memory
 
   Json Open(const std::string& map, const Json& body);
@@ -55,9 +66,13 @@ class SceneService {
   void Persist(Model& model);
   std::int64_t StoreKeyframe(Model& model, const std::string& kind, std::int64_t stamp_ns);
   Json Describe(const Model& model) const;
+  Json SelectCandidates(const std::string& map, const PinholeIntrinsics& K, const Pose3& pose, std::int64_t stamp_ns);
+  void MergeFirstFrame(Model& model, const std::vector<std::uint16_t>& depth, double scale,
+                       const std::vector<std::uint8_t>& dynamic);
 
   storage::Store& store_;
   SceneLimits limits_;
+  MergeSettings merge_;
   std::mutex models_mutex_;
   std::map<std::int64_t, std::shared_ptr<Model>> models_;
 };

@@ -83,6 +83,15 @@ const std::vector<Binding>& Bindings() {
       Bind("scene_persist_every_frames", "frames between checkpoints of an observing scene model (1 = every frame durable)",
            &Config::scene_persist_every_frames, 1, 1e6),
       Bind("scene_max_image_side", "largest camera width or height of a scene model [px]", &Config::scene_max_image_side, 1, 16384),
+      Bind("merge_max_candidates", "most earlier scene models merged into a new one (newest first)", &Config::merge_max_candidates, 0, 100),
+      Bind("merge_max_age_s", "earlier scene models older than this are not merged [s]", &Config::merge_max_age_s, 0, 1e10),
+      Bind("merge_candidate_radius_m", "earlier cameras farther than this from the new one are not merged [m]",
+           &Config::merge_candidate_radius_m, 0, 1000),
+      Bind("merge_min_overlap", "fraction of an earlier background that must lie in the new view frustum", &Config::merge_min_overlap, 0, 1),
+      Bind("merge_frustum_far_m", "rear boundary of a view frustum, for overlap and rear projection [m]", &Config::merge_frustum_far_m, 0.5, 50),
+      Bind("supersede_distance_m", "a new scene model this close to an earlier one (and looking alike) supersedes it [m]",
+           &Config::supersede_distance_m, 0, 10),
+      Bind("supersede_angle_rad", "largest angle between viewing directions for supersession [rad]", &Config::supersede_angle_rad, 0, 3.1416),
   };
   return kBindings;
 }

@@ -45,6 +45,13 @@ struct Config {
   std::int64_t viewpoint_seed = 42;
   int scene_persist_every_frames = 30;
   int scene_max_image_side = 4096;
+  int merge_max_candidates = 5;
+  double merge_max_age_s = 30.0 * 24 * 3600;
+  double merge_candidate_radius_m = 6.0;
+  double merge_min_overlap = 0.05;
+  double merge_frustum_far_m = 5.0;
+  double supersede_distance_m = 0.15;
+  double supersede_angle_rad = 0.1745;
 };
 
 struct SettingInfo {

@@ -106,7 +106,15 @@ int Serve(const Config& config) {
   api::SceneLimits scene_limits;
   scene_limits.persist_every_frames = config.scene_persist_every_frames;
   scene_limits.max_image_side = config.scene_max_image_side;
-  api::SceneService scenes(store, scene_limits);
+  api::MergeSettings merge;
+  merge.max_candidates = config.merge_max_candidates;
+  merge.max_age_s = config.merge_max_age_s;
+  merge.candidate_radius_m = config.merge_candidate_radius_m;
+  merge.min_overlap = config.merge_min_overlap;
+  merge.frustum_far_m = config.merge_frustum_far_m;
+  merge.supersede_distance_m = config.supersede_distance_m;
+  merge.supersede_angle_rad = config.supersede_angle_rad;
+  api::SceneService scenes(store, scene_limits, merge);
 
   api::HttpOptions options;
   options.auth_required = auth_required;

@@ -1,0 +1,121 @@
+#pragma once
+// Grounding of spoken spatial descriptions in a furniture graph (thesis 5.3.2-5.3.5).
+//
+// A description (located category, relation word, reference category) is matched against every directed edge
+// under 5 interpretations: the relative frame, and the intrinsic frame of the reference for each of its 4
+// possible orientations (Algorithm 5). Each is scored by eq. 5.2
+//   S = (P(f_loc | v_loc) + P(f_ref | v_ref) + P(rho | e)) / 3
+// with P(rho | e) of eq. 5.3 = P(r' | e) x P(frame | nature(f_ref), o_ref, r') x P(o_ref | v_ref), where r' is the
+// relation in the relative frame that the interpretation gives. The relative interpretation does not commit to an
+// orientation: its frame probability is the expectation over the orientation belief,
+//   sum_o P(o | v_ref) P(relative | nature, o, r).
+// Each interpretation is assessed under a scheme of reference-frame use (statistical, relative-preferring,
+// intrinsic-preferring; 5.3.4): 15 interpretations per directed edge when adaptation is on.
+//
+// The n best (graph, match) pairs are kept with their accumulated score and predecessor (5.3.3); a hypothesis
+// continues only under the scheme it was first matched with (5.3.4). The chosen match updates p(f) of both
+// vertices and p(r) of the directed edge by eq. 5.4 (damping sigma) towards the described category and the
+// relation r'; an intrinsic match also pushes p(o) of the reference towards eq. 5.5,
+//   p_verbal(o = x) ∝ P_visual(I(r | intrinsic, x) | e),
+// the orientations under which the spoken word names the relation seen in the geometry.
+//
+// Everything is deterministic: equal scores are ordered by (predecessor rank, scheme, edge, interpretation).
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "engine/grounding/furniture_graph.h"
+#include "engine/grounding/knowledge.h"
+
+namespace anchordb::engine::grounding {
+
+// Category indices into the knowledge's CategoryTable.
+struct Description {
+  int located = -1;
+  Relation relation = Relation::kLeftOf;
+  int reference = -1;
+};
+
+// Interpretation index: 0 = relative frame, 1 + o = intrinsic frame with the reference's front at o.
+inline constexpr int kInterpretationCount = 5;
+inline Frame FrameOf(int interpretation) { return interpretation == 0 ? Frame::kRelative : Frame::kIntrinsic; }
+inline Orientation OrientationOf(int interpretation) { return static_cast<Orientation>(interpretation - 1); }
+
+struct InterpretationScore {
+  Relation relative = Relation::kLeftOf;  // r' = I(r | frame[, o])
+  double rho = 0.0;                       // P(rho | e), eq. 5.3
+  double score = 0.0;                     // S, eq. 5.2
+};
+
+// The 5 interpretations of `d` on directed edge `directed` of a graph in state `state`, under scheme `s`.
+std::array<InterpretationScore, kInterpretationCount> ScoreInterpretations(const FurnitureGraph& graph,
+                                                                           const GraphState& state,
+                                                                           const Knowledge& knowledge, Scheme s,
+                                                                           const Description& d, int directed);
+
+// Eq. 5.4 on one distribution: p += (target - p) / sigma, then normalised. sigma >= 1.
+void DampedUpdate(double* p, const double* target, int size, double sigma);
+
+// Eq. 5.5: the orientation target for an intrinsic reading of `word` on directed edge `directed`.
+Distribution4 OrientationTarget(const FurnitureGraph& graph, int directed, Relation word, Nature nature);
+
+struct Match {
+  int directed_edge = -1;
+  int interpretation = 0;                 // see kInterpretationCount
+  Relation relative = Relation::kLeftOf;  // r'
+  Scheme scheme = Scheme::kStatistical;
+  double score = 0.0;                     // S of this step
+};
+
+// The state after applying `match` of description `d` to `state` (eq. 5.4, 5.5).
+GraphState ApplyMatch(const FurnitureGraph& graph, const GraphState& state, const Knowledge& knowledge,
+                      const Description& d, const Match& match, double sigma);
+
+struct Hypothesis {
+  std::int64_t id = 0;                  // G0 = 0, then 1, 2, ... across steps (figure 5.8)
+  std::int64_t parent_id = -1;          // the predecessor at the previous step; -1 for G0
+  std::optional<Scheme> scheme;         // none for G0
+  double score = 0.0;                   // accumulated S over the sequence
+  GraphState state;
+  std::vector<Match> matches;           // the sequence of matches, one per description, oldest first
+  std::vector<std::int64_t> lineage;    // lineage[t]: id of the ancestor created by description t (last = id)
+  std::vector<int> lineage_ranks;       // lineage_ranks[t]: its rank (0 = best) among the n kept at step t
+};
+
+struct HypothesisSet {
+  int step = 0;                   // descriptions grounded so far
+  std::int64_t next_id = 1;
+  std::vector<Hypothesis> ranked;  // best first
+};
+
+struct GroundingParams {
+  int n_best = 100;
+  double sigma = 3.0;
+  // Schemes tried from G0: {S, R, I} = adaptation; {S} = statistics only; {U} = uniform frame prior.
+  std::vector<Scheme> schemes = {Scheme::kStatistical, Scheme::kRelative, Scheme::kIntrinsic};
+};
+
+// The set holding only G0, the graph as seen.
+HypothesisSet InitialHypotheses(const FurnitureGraph& graph);
+
+// Grounds one description: every hypothesis x directed edge x interpretation (x scheme for G0), keeps the n best.
+HypothesisSet Ground(const FurnitureGraph& graph, const Knowledge& knowledge, const HypothesisSet& current,
+                     const Description& d, const GroundingParams& params);
+
+// Speech production (5.3.5): how this listener most likely names the located piece, the reference piece and
+// their relation, from the best hypothesis (its p(f), p(r), p(o) and its scheme of frame use).
+struct Production {
+  int located_category = 0;
+  double located_probability = 0.0;
+  int reference_category = 0;
+  double reference_probability = 0.0;
+  Relation relation = Relation::kLeftOf;     // the word to say
+  Frame frame = Frame::kRelative;            // the frame it is most likely meant in
+  Distribution4 word_probability{};          // P(word) for each relation word
+  Scheme scheme = Scheme::kStatistical;
+};
+// Throws Error(kUnprocessable) when the two vertices share no edge.
+Production Produce(const FurnitureGraph& graph, const Knowledge& knowledge, const Hypothesis& best, int located,
+                   int reference);
+
+}  // namespace anchordb::engine::grounding

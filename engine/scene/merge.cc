@@ -1,0 +1,212 @@
+#include "engine/scene/merge.h"
+
+#include <chrono>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "engine/scene/projection.h"
+
+namespace anchordb::engine {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Ray of pixel (u, v) in the optical frame, with z = 1 (so a depth is its parameter).
+Eigen::Vector3d PixelRay(const PinholeIntrinsics& K, int u, int v) {
+  return {(u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0};
+}
+
+// Depth (along the current ray, as the current camera's z) where the ray o + t d, given in the earlier camera's
+// frame, leaves that camera's view frustum (side planes and the far plane). +inf if it never leaves.
+double FrustumExit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const PinholeIntrinsics& K, double far_m) {
+  const double xmin = (0.0 - K.cx) / K.fx, xmax = (K.width - K.cx) / K.fx;
+  const double ymin = (0.0 - K.cy) / K.fy, ymax = (K.height - K.cy) / K.fy;
+  const Eigen::Vector3d normals[4] = {{1, 0, -xmin}, {-1, 0, xmax}, {0, 1, -ymin}, {0, -1, ymax}};
+  double t_exit = std::numeric_limits<double>::infinity();
+  for (const auto& n : normals) {
+    const double nd = n.dot(d);
+    if (nd < 0) t_exit = std::min(t_exit, -n.dot(o) / nd);
+  }
+  if (d.z() > 0) t_exit = std::min(t_exit, (far_m - o.z()) / d.z());
+  return t_exit;
+}
+
+struct Projection {
+  bool inside = false;
+  int u = 0, v = 0;
+  double z = 0.0;
+};
+
+Projection Project(const Eigen::Vector3d& p, const PinholeIntrinsics& K, double far_m) {
+  Projection out;
+  if (p.z() <= 0.05 || p.z() > far_m) return out;
+  const double u = K.fx * p.x() / p.z() + K.cx, v = K.fy * p.y() / p.z() + K.cy;
+  if (u < 0 || v < 0 || u >= K.width || v >= K.height) return out;
+  out.inside = true;
+  out.u = static_cast<int>(u);
+  out.v = static_cast<int>(v);
+  out.z = p.z();
+  return out;
+}
+
+}  // namespace
+
+std::vector<float> Rasterise(const std::vector<Eigen::Vector3f>& points_C, const PinholeIntrinsics& K, int closing_px) {
+  std::vector<float> depth(static_cast<std::size_t>(K.width) * K.height, 0.0f);
+  for (const auto& p : points_C) {
+    if (p.z() <= 0.05f) continue;
+    const double u = K.fx * p.x() / p.z() + K.cx, v = K.fy * p.y() / p.z() + K.cy;
+    if (u < 0 || v < 0 || u >= K.width || v >= K.height) continue;
+    float& d = depth[static_cast<std::size_t>(v) * K.width + static_cast<std::size_t>(u)];
+    if (d == 0.0f || p.z() < d) d = p.z();
+  }
+  if (closing_px > 1) {
+    cv::Mat m(K.height, K.width, CV_32F, depth.data());
+    cv::Mat closed;
+    cv::morphologyEx(m, closed, cv::MORPH_CLOSE,
+                     cv::getStructuringElement(cv::MORPH_RECT, cv::Size(closing_px, closing_px)));
+    for (std::size_t i = 0; i < depth.size(); ++i) {
+      if (depth[i] == 0.0f) depth[i] = closed.ptr<float>()[i];  // only holes are filled; measured pixels stay
+    }
+  }
+  return depth;
+}
+
+double FrustumOverlap(const std::vector<Eigen::Vector3f>& probe_M, const PinholeIntrinsics& K,
+                      const Eigen::Isometry3d& X_MapCamera, double far_m) {
+  if (probe_M.empty()) return 0.0;
+  const Eigen::Isometry3d X_CM = X_MapCamera.inverse();
+  std::size_t inside = 0;
+  for (const auto& p : probe_M) inside += Project(X_CM * p.cast<double>(), K, far_m).inside;
+  return static_cast<double>(inside) / probe_M.size();
+}
+
+MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std::uint16_t> depth, double units_per_m,
+                                    std::span<const std::uint8_t> dynamic_mask, const SceneModelParams& scene_params,
+                                    const PinholeIntrinsics& K, const Eigen::Isometry3d& X_MapCamera,
+                                    const std::vector<PriorModel>& priors, const MergeParams& params) {
+  MergeResult result;
+  const std::size_t n = static_cast<std::size_t>(K.width) * K.height;
+  std::vector<float> frame_m(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    // Dynamic pixels (a tracked person) are no evidence of the static scene.
+    const bool dyn = !dynamic_mask.empty() && dynamic_mask[i];
+    frame_m[i] = dyn ? 0.0f : static_cast<float>(depth[i] / units_per_m);
+  }
+  const std::vector<Eigen::Vector3f> frame_cloud_C = BackProject(frame_m, K, Eigen::Isometry3d::Identity());
+  const Eigen::Isometry3d X_CM = X_MapCamera.inverse();
+
+  std::vector<float> s_v = frame_m;            // line 1: S_v <- F_t
+  std::vector<float> w(n, 1.0f);
+  std::vector<float> naive(n, 0.0f);           // z-buffer of all transformed models (naive strategies)
+  const float beta = static_cast<float>(params.beta);
+
+  for (const PriorModel& prior : priors) {
+    MergeModelReport report;
+    report.id = prior.id;
+    auto start = Clock::now();
+    std::vector<Eigen::Vector3f> cloud_C = BackProject(prior.background_m, prior.K, X_CM * prior.X_MapCamera);
+    Eigen::Isometry3d X_C_prior = X_CM * prior.X_MapCamera;  // pose of the earlier camera in the current one
+    if (params.strategy != MergeStrategy::kNaiveWithoutIcp && !cloud_C.empty() && !frame_cloud_C.empty()) {
+      report.icp = AlignIcp(cloud_C, frame_cloud_C, params.icp);
+      const double angle = Eigen::AngleAxisd(report.icp.correction.linear()).angle();
+      if (report.icp.converged && report.icp.correction.translation().norm() <= params.max_icp_translation_m &&
+          angle <= params.max_icp_rotation_rad) {
+        report.icp_applied = true;
+        for (auto& p : cloud_C) p = (report.icp.correction.cast<float>() * p);
+        X_C_prior = report.icp.correction * X_C_prior;
+      }
+    }
+    result.timing.icp_ms += MsSince(start);
+    start = Clock::now();
+    const std::vector<float> s_u = Rasterise(cloud_C, K, params.closing_px);
+    for (float v : s_u) report.rasterised_pixels += v > 0.0f;
+    result.timing.rasterise_ms += MsSince(start);
+    start = Clock::now();
+
+    if (params.strategy != MergeStrategy::kAlgorithm2) {
+      for (std::size_t i = 0; i < n; ++i) {
+        if (s_u[i] > 0.0f && (naive[i] == 0.0f || s_u[i] < naive[i])) naive[i] = s_u[i];
+      }
+      result.timing.merge_ms += MsSince(start);
+      result.models.push_back(report);
+      continue;
+    }
+
+    const Eigen::Isometry3d X_prior_C = X_C_prior.inverse();
+    const int r = params.neighbourhood_px;
+    for (int v = 0; v < K.height; ++v) {
+      for (int u = 0; u < K.width; ++u) {
+        const std::size_t i = static_cast<std::size_t>(v) * K.width + u;
+        const float su = s_u[i], sv = s_v[i];
+        if (sv == 0.0f) {  // nothing measured here now: the earlier background fills the gap
+          if (su > 0.0f) s_v[i] = su, w[i] = 1.0f, ++report.filled_unknown;
+          continue;
+        }
+        const float theta = beta * sv;
+        if (su > 0.0f && std::abs(su - sv) < theta) {  // line 3-4
+          w[i] += 1.0f;
+          ++report.supported;
+          continue;
+        }
+        if (su > 0.0f && su < sv) continue;  // nearer: the static background is known to lie behind
+        // Lines 6-11 need the premises for s_v^i.
+        const Eigen::Vector3d ray = PixelRay(K, u, v);
+        const Eigen::Vector3d p_prior = X_prior_C * (ray * sv);
+        const Projection proj = Project(p_prior, prior.K, params.frustum_far_m);
+        if (!proj.inside) {  // premise 1: the point was outside the earlier view
+          ++report.rejected_fov;
+          continue;
+        }
+        const float seen = prior.background_m[static_cast<std::size_t>(proj.v) * prior.K.width + proj.u];
+        if (seen > 0.0f && seen < proj.z - beta * proj.z) {  // premise 2: something stood in front of it then
+          ++report.rejected_occlusion;
+          continue;
+        }
+        bool neighbour = false;  // premise 3: the transformed model has points at this depth nearby
+        for (int dv = -r; dv <= r && !neighbour; ++dv) {
+          for (int du = -r; du <= r && !neighbour; ++du) {
+            const int uu = u + du, vv = v + dv;
+            if (uu < 0 || vv < 0 || uu >= K.width || vv >= K.height) continue;
+            const float q = s_u[static_cast<std::size_t>(vv) * K.width + uu];
+            neighbour = q > 0.0f && std::abs(q - sv) < theta;
+          }
+        }
+        if (neighbour) {
+          ++report.rejected_neighbourhood;
+          continue;
+        }
+        if (su > sv) {  // lines 6-8
+          s_v[i] = su;
+          w[i] = 1.0f;
+          ++report.replaced_farther;
+        } else {  // su unknown: lines 9-11, rear projection onto the earlier frustum's boundary
+          const double exit = FrustumExit(X_prior_C.translation(), X_prior_C.linear() * ray, prior.K, params.frustum_far_m);
+          if (std::isfinite(exit) && exit > sv + theta) {
+            s_v[i] = static_cast<float>(exit);
+            w[i] = 1.0f;
+            ++report.rear_projected;
+          }
+        }
+      }
+    }
+    result.timing.merge_ms += MsSince(start);
+    result.models.push_back(report);
+  }
+
+  if (params.strategy == MergeStrategy::kAlgorithm2) {
+    state.background_m = s_v;
+    state.weight = w;
+  } else {
+    state.background_m = naive;  // the transformed earlier background is taken as it is
+    state.weight.assign(n, 1.0f);
+  }
+  ApplyFrame(state, depth, units_per_m, dynamic_mask, scene_params);
+  return result;
+}
+
+}  // namespace anchordb::engine

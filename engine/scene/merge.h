@@ -1,0 +1,84 @@
+#pragma once
+// Merging earlier scene models into a new viewpoint (thesis 3.3.2-3.3.3, Algorithm 2, premises 1-3).
+// Each earlier model's static background is turned into a point cloud, moved into the new camera by the stored
+// poses, refined by ICP against the current frame, rasterised with a z-buffer (nearest wins) and small holes are
+// closed; then the accumulated background S_v (initially the current frame) is refined pixel by pixel. The naive
+// strategies of the evaluation (transform [+ ICP] + plain Algorithm 1) share the same code path.
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "engine/scene/registration.h"
+#include "engine/scene/scene_model.h"
+#include "schema/types.h"
+
+namespace anchordb::engine {
+
+// An earlier scene model as the merge needs it.
+struct PriorModel {
+  std::int64_t id = 0;
+  PinholeIntrinsics K;
+  Eigen::Isometry3d X_MapCamera = Eigen::Isometry3d::Identity();  // as stored (may be off by the localisation error)
+  std::vector<float> background_m;                                // its static background, 0 = unknown
+};
+
+enum class MergeStrategy {
+  kAlgorithm2,       // the thesis' merge with premises 1-3 and rear projection
+  kNaive,            // transform + ICP, then the z-buffered transformed background is taken as S and Algorithm 1 runs
+  kNaiveWithoutIcp,  // the same without ICP
+};
+
+struct MergeParams {
+  MergeStrategy strategy = MergeStrategy::kAlgorithm2;
+  double beta = 0.03;              // noise factor of theta(d) = beta * d, as in Algorithm 1
+  double frustum_far_m = 5.0;      // the rear boundary of an earlier model's view frustum (sensor range)
+  int neighbourhood_px = 2;        // premise 3 looks at (2r+1)^2 pixels of the transformed model
+  int closing_px = 3;              // kernel of the hole-closing after rasterisation
+  IcpParams icp;
+  // ICP corrections beyond these are not trusted (the stored poses are kept).
+  double max_icp_translation_m = 0.25;
+  double max_icp_rotation_rad = 0.26;
+};
+
+struct MergeModelReport {
+  std::int64_t id = 0;
+  IcpResult icp;
+  bool icp_applied = false;
+  std::size_t rasterised_pixels = 0;   // pixels of the current view the transformed model covers
+  std::size_t supported = 0;           // line 4: within theta, reliability raised
+  std::size_t replaced_farther = 0;    // lines 6-8: background moved back to the earlier model's
+  std::size_t rear_projected = 0;      // lines 9-11: unknown in the earlier model -> its frustum's rear boundary
+  std::size_t filled_unknown = 0;      // the current frame had no measurement: the earlier background fills it
+  std::size_t rejected_fov = 0;        // premise 1 failed
+  std::size_t rejected_occlusion = 0;  // premise 2 failed
+  std::size_t rejected_neighbourhood = 0;  // premise 3 failed
+};
+
+struct MergeTiming {
+  double icp_ms = 0.0;
+  double rasterise_ms = 0.0;
+  double merge_ms = 0.0;
+};
+
+struct MergeResult {
+  std::vector<MergeModelReport> models;
+  MergeTiming timing;
+};
+
+// Builds the initial state of a new scene model at X_MapCamera from the current frame and earlier models, then
+// applies the frame with Algorithm 1. `state` must be fresh (NewSceneModel of the current camera).
+MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std::uint16_t> depth, double units_per_m,
+                                    std::span<const std::uint8_t> dynamic_mask, const SceneModelParams& scene_params,
+                                    const PinholeIntrinsics& K, const Eigen::Isometry3d& X_MapCamera,
+                                    const std::vector<PriorModel>& priors, const MergeParams& params);
+
+// Depth image [m] of `points_C` (in the camera frame) with a z-buffer, nearest wins; then holes smaller than the
+// closing kernel are filled (OpenCV morphological closing, applied to empty pixels only).
+std::vector<float> Rasterise(const std::vector<Eigen::Vector3f>& points_C, const PinholeIntrinsics& K, int closing_px);
+
+// Fraction of `probe_M` points (map frame) that fall into the view frustum of the camera (K, X_MapCamera, far).
+double FrustumOverlap(const std::vector<Eigen::Vector3f>& probe_M, const PinholeIntrinsics& K,
+                      const Eigen::Isometry3d& X_MapCamera, double far_m);
+
+}  // namespace anchordb::engine
