@@ -139,6 +139,11 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
 
     const Eigen::Isometry3d X_prior_C = X_C_prior.inverse();
     const int r = params.neighbourhood_px;
+    // Distance [px] of every earlier pixel to the nearest measured one (0 where measured).
+    cv::Mat unknown(prior.K.height, prior.K.width, CV_8U);
+    for (std::size_t k = 0; k < prior.background_m.size(); ++k) unknown.data[k] = prior.background_m[k] > 0.0f ? 0 : 255;
+    cv::Mat unknown_distance_px;
+    cv::distanceTransform(unknown, unknown_distance_px, cv::DIST_L2, cv::DIST_MASK_3);
     for (int v = 0; v < K.height; ++v) {
       for (int u = 0; u < K.width; ++u) {
         const std::size_t i = static_cast<std::size_t>(v) * K.width + u;
@@ -162,8 +167,20 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
           ++report.rejected_fov;
           continue;
         }
-        const float seen = prior.background_m[static_cast<std::size_t>(proj.v) * prior.K.width + proj.u];
-        if (seen > 0.0f && seen < proj.z - beta * proj.z) {  // premise 2: something stood in front of it then
+        // Premise 2: nothing stood in front of (or at) the point as seen from the earlier camera -- at the point's
+        // depth it would have been seen as static. Checked on a small window of the earlier image: a pixel the sensor
+        // dropped (grazing angle, shadow) is no evidence of free space, so a measured neighbour counts too.
+        bool occluded = false;
+        const int ro = params.occlusion_px;
+        for (int dv = -ro; dv <= ro && !occluded; ++dv) {
+          for (int du = -ro; du <= ro && !occluded; ++du) {
+            const int uu = proj.u + du, vv = proj.v + dv;
+            if (uu < 0 || vv < 0 || uu >= prior.K.width || vv >= prior.K.height) continue;
+            const float seen = prior.background_m[static_cast<std::size_t>(vv) * prior.K.width + uu];
+            occluded = seen > 0.0f && seen < proj.z + beta * proj.z;  // in front of, or at, the point's depth
+          }
+        }
+        if (occluded) {
           ++report.rejected_occlusion;
           continue;
         }
@@ -181,10 +198,20 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
           continue;
         }
         if (su > sv) {  // lines 6-8
+          // The earlier camera must have seen through the point (measured farther there), not merely nothing.
+          const float seen = prior.background_m[static_cast<std::size_t>(proj.v) * prior.K.width + proj.u];
+          if (!(seen > proj.z + beta * proj.z)) {
+            ++report.rejected_occlusion;
+            continue;
+          }
           s_v[i] = su;
           w[i] = 1.0f;
           ++report.replaced_farther;
         } else {  // su unknown: lines 9-11, rear projection onto the earlier frustum's boundary
+          if (unknown_distance_px.at<float>(proj.v, proj.u) < params.rear_projection_min_unknown_px) {
+            ++report.rejected_occlusion;  // a dropout next to measured structure: not seen through
+            continue;
+          }
           const double exit = FrustumExit(X_prior_C.translation(), X_prior_C.linear() * ray, prior.K, params.frustum_far_m);
           if (std::isfinite(exit) && exit > sv + theta) {
             s_v[i] = static_cast<float>(exit);
