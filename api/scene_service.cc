@@ -202,6 +202,7 @@ std::shared_ptr<SceneService::Model> SceneService::Acquire(const std::string& ma
     for (const auto& k : storage::ListKeyframes(c, map, id)) if (k.kind == "begin") return true;
     return false;
   });
+  if (model->record.status != "observing") return model;  // finished models are read from the database each time
   std::lock_guard<std::mutex> lock(models_mutex_);
   auto [it, inserted] = models_.emplace(id, model);
   return it->second;  // another thread may have loaded it first: use that one
@@ -402,6 +403,10 @@ Json SceneService::Close(const std::string& map, std::int64_t id) {
   store_.Write([&](storage::Connection& c) { storage::UpdateSceneStatus(c, id, "closed", end, std::nullopt); });
   m.record.status = "closed";
   m.record.ended_ns = end;
+  {
+    std::lock_guard<std::mutex> models_lock(models_mutex_);  // closed models are not kept in memory
+    models_.erase(id);
+  }
   out["status"] = "closed";
   out["frames"] = m.state.frames;
   return out;

@@ -233,3 +233,72 @@ TEST_F(SceneHttpTest, BadInputIsRefusedAndChangesNothing) {
 
 }  // namespace
 }  // namespace anchordb
+
+namespace anchordb {
+namespace {
+
+// Issue 4, acceptance 5: A is observed and closed; the object is moved meanwhile; B, opened elsewhere, reports the
+// moved object movable in its first frames without having seen it move -- the merge carried A's background over.
+TEST_F(SceneHttpTest, ObjectMovedMeanwhileIsMovableInTheFirstFramesOfAnotherViewpoint) {
+  Start();
+  Post("/v1/maps", {{"id", "home"}}, 201);
+  sim::SettingScene setting = sim::MakeSetting(sim::Setting::kTA, 2);
+  const PinholeIntrinsics K = sim::KinectIntrinsics();
+  const int object = setting.movable_ids.at(1);
+  sim::SensorModel sensor;
+  const json a = Post("/v1/maps/home/scenes", {{"camera", Camera(K)}, {"pose", PoseJson(setting.X_WorldCameraA)}}, 201);
+  const std::string path_a = "/v1/maps/home/scenes/" + std::to_string(a["id"].get<std::int64_t>());
+  EXPECT_FALSE(a["merge"]["pending"].get<bool>());  // nothing earlier to merge
+  for (int i = 0; i < 8; ++i) {
+    const sim::Frame f = sim::Render(setting.scene, K, setting.X_WorldCameraA, sensor, 300 + i);
+    auto r = client_->Post(path_a + "/frames", engine::EncodeDepthPng(f.depth_mm, K.width, K.height), "image/png");
+    ASSERT_TRUE(r && r->status == 200) << (r ? r->body : "");
+  }
+  Post(path_a + ":close", json::object(), 200);
+  // Meanwhile, the object is moved 20 cm along the table (nobody watches).
+  const Eigen::Vector3d side =
+      (setting.surface_point_m - setting.X_WorldCameraA.translation()).cross(Eigen::Vector3d::UnitZ()).normalized();
+  Eigen::Isometry3d move = Eigen::Isometry3d::Identity();
+  move.translation() = side * 0.2;
+  sim::MoveObject(setting.scene, object, move);
+
+  const json b = Post("/v1/maps/home/scenes", {{"camera", Camera(K)}, {"pose", PoseJson(setting.X_WorldCameraB)}}, 201);
+  ASSERT_EQ(b["merge"]["candidates"].size(), 1u) << b.dump();
+  EXPECT_TRUE(b["merge"]["pending"].get<bool>());
+  const std::string path_b = "/v1/maps/home/scenes/" + std::to_string(b["id"].get<std::int64_t>());
+  sim::Frame last;
+  for (int i = 0; i < 3; ++i) {
+    last = sim::Render(setting.scene, K, setting.X_WorldCameraB, sensor, 400 + i);
+    auto r = client_->Post(path_b + "/frames", engine::EncodeDepthPng(last.depth_mm, K.width, K.height), "image/png");
+    ASSERT_TRUE(r && r->status == 200) << (r ? r->body : "");
+  }
+  const json scene = Get(path_b);
+  const json& report = scene["merge"];
+  EXPECT_TRUE(report["performed"].get<bool>()) << report.dump();
+  ASSERT_EQ(report["models_used"].size(), 1u);
+  EXPECT_TRUE(report["models_used"][0]["icp"]["converged"].get<bool>());
+  EXPECT_GT(report["models_used"][0]["pixels"]["replaced_farther"].get<int>(), 100);
+  const std::string movable = GetRaw(path_b + "/layers/movable?format=raw&clean=true");
+  std::size_t object_px = 0, object_movable = 0, other_px = 0, other_movable = 0;
+  for (std::size_t p = 0; p < movable.size(); ++p) {
+    if (last.depth_mm[p] == 0) continue;
+    if (last.object_id[p] == object) ++object_px, object_movable += movable[p] != 0;
+    else ++other_px, other_movable += movable[p] != 0;
+  }
+  std::printf("B after 3 frames: object %zu/%zu movable, elsewhere %zu/%zu\n", object_movable, object_px, other_movable, other_px);
+  ASSERT_GT(object_px, 300u);
+  EXPECT_GT(static_cast<double>(object_movable) / object_px, 0.65);  // measured 0.70: its base is within theta of the table
+  EXPECT_LT(static_cast<double>(other_movable) / other_px, 0.01);
+  // Reopening at (almost) A's viewpoint supersedes A.
+  const json c = Post("/v1/maps/home/scenes", {{"camera", Camera(K)}, {"pose", PoseJson(setting.X_WorldCameraA)}}, 201);
+  const std::string path_c = "/v1/maps/home/scenes/" + std::to_string(c["id"].get<std::int64_t>());
+  const sim::Frame fc = sim::Render(setting.scene, K, setting.X_WorldCameraA, sensor, 500);
+  auto rc = client_->Post(path_c + "/frames", engine::EncodeDepthPng(fc.depth_mm, K.width, K.height), "image/png");
+  ASSERT_TRUE(rc && rc->status == 200);
+  EXPECT_EQ(Get(path_a)["status"], "superseded") << Get(path_c)["merge"].dump();
+  EXPECT_EQ(Get(path_a)["superseded_by"], c["id"]);
+  EXPECT_EQ(Get(path_b)["status"], "observing");
+}
+
+}  // namespace
+}  // namespace anchordb
