@@ -510,7 +510,7 @@ void SceneService::MergeFirstFrame(Model& m, const std::vector<std::uint16_t>& d
     const Eigen::AngleAxisd aa(r.icp.correction.linear());
     const Eigen::Vector3d t = r.icp.correction.translation();
     used.push_back({{"scene", r.id},
-                    {"icp", {{"converged", r.icp.converged}, {"applied", r.icp_applied}, {"fitness_m2", r.icp.fitness_m2},
+                    {"icp", {{"converged", r.icp.converged}, {"applied", r.icp_applied}, {"fitness_m2", r.icp.fitness_m2}, {"fitness_before_m2", r.icp.fitness_before_m2},
                              {"correction", {{"translation_m", {t.x(), t.y(), t.z()}}, {"rotation_rad", aa.angle()}}},
                              {"source_points", r.icp.source_points}, {"target_points", r.icp.target_points}}},
                     {"pixels", {{"rasterised", r.rasterised_pixels}, {"supported", r.supported},

@@ -114,8 +114,8 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
     if (params.strategy != MergeStrategy::kNaiveWithoutIcp && !cloud_C.empty() && !frame_cloud_C.empty()) {
       report.icp = AlignIcp(cloud_C, frame_cloud_C, params.icp);
       const double angle = Eigen::AngleAxisd(report.icp.correction.linear()).angle();
-      if (report.icp.converged && report.icp.correction.translation().norm() <= params.max_icp_translation_m &&
-          angle <= params.max_icp_rotation_rad) {
+      if (report.icp.converged && report.icp.fitness_m2 < report.icp.fitness_before_m2 &&
+          report.icp.correction.translation().norm() <= params.max_icp_translation_m && angle <= params.max_icp_rotation_rad) {
         report.icp_applied = true;
         for (auto& p : cloud_C) p = (report.icp.correction.cast<float>() * p);
         X_C_prior = report.icp.correction * X_C_prior;
@@ -144,6 +144,28 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
     for (std::size_t k = 0; k < prior.background_m.size(); ++k) unknown.data[k] = prior.background_m[k] > 0.0f ? 0 : 255;
     cv::Mat unknown_distance_px;
     cv::distanceTransform(unknown, unknown_distance_px, cv::DIST_L2, cv::DIST_MASK_3);
+    // The earlier sensor's effective field of view: the bounding box of its measured pixels. Real depth cameras
+    // leave bands at the image border without depth (e.g. a Kinect's registration border); there the earlier
+    // camera saw nothing, which premise 1 must not take for "seen and empty".
+    int u_min = prior.K.width, u_max = -1, v_min = prior.K.height, v_max = -1;
+    for (int v = 0; v < prior.K.height; ++v) {
+      for (int u = 0; u < prior.K.width; ++u) {
+        if (prior.background_m[static_cast<std::size_t>(v) * prior.K.width + u] > 0.0f) {
+          u_min = std::min(u_min, u), u_max = std::max(u_max, u), v_min = std::min(v_min, v), v_max = std::max(v_max, v);
+        }
+      }
+    }
+    // Nearest measured depth within square windows of radius 4, 8, 16, 32 px (unknown = +inf): premise 2's test.
+    cv::Mat earlier(prior.K.height, prior.K.width, CV_32F);
+    for (std::size_t k = 0; k < prior.background_m.size(); ++k) {
+      earlier.ptr<float>()[k] = prior.background_m[k] > 0.0f ? prior.background_m[k] : std::numeric_limits<float>::max();
+    }
+    static constexpr int kRadii[4] = {4, 8, 16, 32};
+    cv::Mat nearest_within[4];
+    for (int k = 0; k < 4; ++k) {
+      cv::erode(earlier, nearest_within[k], cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kRadii[k] + 1, 2 * kRadii[k] + 1)),
+                cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+    }
     for (int v = 0; v < K.height; ++v) {
       for (int u = 0; u < K.width; ++u) {
         const std::size_t i = static_cast<std::size_t>(v) * K.width + u;
@@ -163,24 +185,18 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
         const Eigen::Vector3d ray = PixelRay(K, u, v);
         const Eigen::Vector3d p_prior = X_prior_C * (ray * sv);
         const Projection proj = Project(p_prior, prior.K, params.frustum_far_m);
-        if (!proj.inside) {  // premise 1: the point was outside the earlier view
+        if (!proj.inside || proj.u < u_min || proj.u > u_max || proj.v < v_min || proj.v > v_max) {  // premise 1
           ++report.rejected_fov;
           continue;
         }
         // Premise 2: nothing stood in front of (or at) the point as seen from the earlier camera -- at the point's
         // depth it would have been seen as static. Checked on a small window of the earlier image: a pixel the sensor
         // dropped (grazing angle, shadow) is no evidence of free space, so a measured neighbour counts too.
-        bool occluded = false;
-        const int ro = params.occlusion_px;
-        for (int dv = -ro; dv <= ro && !occluded; ++dv) {
-          for (int du = -ro; du <= ro && !occluded; ++du) {
-            const int uu = proj.u + du, vv = proj.v + dv;
-            if (uu < 0 || vv < 0 || uu >= prior.K.width || vv >= prior.K.height) continue;
-            const float seen = prior.background_m[static_cast<std::size_t>(vv) * prior.K.width + uu];
-            occluded = seen > 0.0f && seen < proj.z + beta * proj.z;  // in front of, or at, the point's depth
-          }
-        }
-        if (occluded) {
+        const double needed_px = std::max<double>(params.occlusion_px, prior.K.fx * params.pose_tolerance_m / proj.z);
+        int bucket = 0;
+        while (bucket < 3 && kRadii[bucket] < needed_px) ++bucket;
+        const float nearest = nearest_within[bucket].at<float>(proj.v, proj.u);
+        if (nearest < proj.z + beta * proj.z) {  // something in front of, or at, the point's depth was seen
           ++report.rejected_occlusion;
           continue;
         }

@@ -128,5 +128,46 @@ TEST(SlambookRealData, StaticLayersOfViews4And5AgreeInTheMapFrame) {
   std::printf("median nearest-neighbour distance view 5 -> view 4: %.4f m\n", with_poses);
 }
 
+// Issue 4, acceptance 4: nothing moved between the five real views, so merging each into the next must not invent
+// movable structure: after cleaning, under 2 % of the pixels are movable in every merged model.
+TEST(SlambookRealData, MergedRealViewsHaveFewMovablePixels) {
+  testing::TempDir dir;
+  storage::StoreOptions so;
+  so.path = dir.File("merge.sqlite");
+  storage::Store store(so);
+  api::GridService grid(store, {}, {});
+  grid.CreateMap("room", "slambook ch5 room");
+  api::SceneService scenes(store, {});
+  std::ifstream poses(DataDir() + "/pose.txt");
+  ASSERT_TRUE(poses);
+  const PinholeIntrinsics K{640, 480, 518.0, 519.0, 325.5, 253.5};
+  int merged_models = 0;
+  for (int view = 1; view <= 5; ++view) {
+    double t[3], q[4];
+    poses >> t[0] >> t[1] >> t[2] >> q[0] >> q[1] >> q[2] >> q[3];
+    const api::Json body = {{"camera", {{"width", 640}, {"height", 480}, {"fx", K.fx}, {"fy", K.fy}, {"cx", K.cx}, {"cy", K.cy}}},
+                            {"pose", {{"position", {t[0], t[1], t[2]}}, {"orientation", {q[0], q[1], q[2], q[3]}}}}};
+    const std::int64_t id = scenes.Open("room", body)["id"].get<std::int64_t>();
+    int w = 0, h = 0;
+    const auto depth = ReadPgm16(DataDir() + "/depth/" + std::to_string(view) + ".pgm", w, h);
+    const std::string raw(reinterpret_cast<const char*>(depth.data()), depth.size() * 2);
+    for (int frame = 0; frame < 3; ++frame) {
+      api::FrameInput in;
+      in.body = raw;
+      in.png = false;
+      scenes.AddFrame("room", id, in);
+    }
+    const api::Json scene = scenes.Get("room", id);
+    const api::Json movable = api::Json::parse(scenes.Layer("room", id, "movable", "json", true).body);
+    const double fraction = movable["fraction"].get<double>();
+    const auto used = scene["merge"].value("models_used", api::Json::array()).size();
+    merged_models += static_cast<int>(used);
+    std::printf("view %d: merged %zu earlier model(s), cleaned movable fraction %.4f\n", view, used, fraction);
+    EXPECT_LT(fraction, 0.02) << scene["merge"].dump();
+    scenes.Close("room", id);
+  }
+  EXPECT_GE(merged_models, 4);  // every view after the first merged at least one earlier one
+}
+
 }  // namespace
 }  // namespace anchordb
