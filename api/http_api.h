@@ -3,6 +3,7 @@
 // server with the conventions of SPEC §5 applied to every route in one place: JSON errors, auth by Bearer token
 // and role, request ids in the log and in X-Request-Id, metrics per route, one catch-all per request.
 // Eigen must come before httplib.h: httplib pulls in <resolv.h>, whose `_res` macro breaks Eigen's headers.
+#include "api/furniture_service.h"
 #include "api/grid_service.h"
 #include "api/metrics.h"
 #include "api/scene_service.h"
@@ -63,7 +64,7 @@ struct HttpOptions {
 
 class HttpApi {
  public:
-  HttpApi(GridService& grid, SceneService& scenes, HttpOptions options);
+  HttpApi(GridService& grid, SceneService& scenes, FurnitureService& furniture, HttpOptions options);
 
   const std::vector<Route>& routes() const { return routes_; }
   Metrics& metrics() { return metrics_; }
@@ -76,12 +77,14 @@ class HttpApi {
  private:
   void AddRoutes();
   void AddSceneRoutes();
+  void AddFurnitureRoutes();
   void Add(std::string method, std::string pattern, Role role, std::string summary, Handler handler);
   void Dispatch(const Route& route, const std::vector<std::string>& names, const httplib::Request& req,
                 httplib::Response& res);
 
   GridService& service_;
   SceneService& scenes_;
+  FurnitureService& furniture_;
   HttpOptions options_;
   Metrics metrics_;
   std::vector<Route> routes_;

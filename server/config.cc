@@ -92,6 +92,17 @@ const std::vector<Binding>& Bindings() {
       Bind("supersede_distance_m", "a new scene model this close to an earlier one (and looking alike) supersedes it [m]",
            &Config::supersede_distance_m, 0, 10),
       Bind("supersede_angle_rad", "largest angle between viewing directions for supersession [rad]", &Config::supersede_angle_rad, 0, 3.1416),
+      Bind("grounding_n_best", "hypotheses (graph, match) a furniture graph keeps per description (thesis 5.3.3; default of "
+                               "params.n_best)", &Config::grounding_n_best, 1, 2000),
+      Bind("grounding_sigma", "damping of the grounding update p += (p_verbal - p) / sigma (thesis eq. 5.4; 1 = replace)",
+           &Config::grounding_sigma, 1, 1000),
+      Bind("grounding_edge_max_gap_m", "furniture pieces whose footprints are at most this far apart share a graph edge [m]",
+           &Config::grounding_edge_max_gap_m, 0, 100),
+      Bind("grounding_relation_sharpness", "kappa of the initial relation distribution p(r) ∝ exp(kappa cos(angle))",
+           &Config::grounding_relation_sharpness, 0, 100),
+      Bind("grounding_max_furniture", "most furniture pieces in one furniture graph", &Config::grounding_max_furniture, 2, 1000),
+      Bind("grounding_knowledge", "JSON file {categories, frame_prior} replacing the built-in grounding tables "
+                                  "(engine/grounding/*.json); empty = built in", &Config::grounding_knowledge),
   };
   return kBindings;
 }

@@ -52,6 +52,12 @@ struct Config {
   double merge_frustum_far_m = 5.0;
   double supersede_distance_m = 0.15;
   double supersede_angle_rad = 0.1745;
+  int grounding_n_best = 100;
+  double grounding_sigma = 3.0;
+  double grounding_edge_max_gap_m = 1.5;
+  double grounding_relation_sharpness = 3.0;
+  int grounding_max_furniture = 64;
+  std::string grounding_knowledge;
 };
 
 struct SettingInfo {

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
+#include <fstream>
 #include <iostream>
 #include <mutex>
 #include <thread>
@@ -115,6 +116,21 @@ int Serve(const Config& config) {
   merge.supersede_distance_m = config.supersede_distance_m;
   merge.supersede_angle_rad = config.supersede_angle_rad;
   api::SceneService scenes(store, scene_limits, merge);
+  api::FurnitureSettings furniture_settings;
+  furniture_settings.n_best = config.grounding_n_best;
+  furniture_settings.sigma = config.grounding_sigma;
+  furniture_settings.edge_max_gap_m = config.grounding_edge_max_gap_m;
+  furniture_settings.relation_sharpness = config.grounding_relation_sharpness;
+  furniture_settings.max_furniture = config.grounding_max_furniture;
+  if (!config.grounding_knowledge.empty()) {
+    std::ifstream in(config.grounding_knowledge);
+    if (!in) {
+      std::cerr << "anchordb: cannot read grounding_knowledge file " << config.grounding_knowledge << "\n";
+      return 2;
+    }
+    furniture_settings.knowledge_json.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  api::FurnitureService furniture(store, furniture_settings);
 
   api::HttpOptions options;
   options.auth_required = auth_required;
@@ -126,7 +142,7 @@ int Serve(const Config& config) {
   if (config.log_requests) options.log = Log;
   options.settings = [config] { return SettingsJson(config); };
   options.max_body_bytes = static_cast<std::size_t>(config.max_body_bytes);
-  api::HttpApi http(service, scenes, options);
+  api::HttpApi http(service, scenes, furniture, options);
 
   httplib::Server server;
   const int threads = config.threads;

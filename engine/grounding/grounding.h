@@ -6,9 +6,8 @@
 // possible orientations (Algorithm 5). Each is scored by eq. 5.2
 //   S = (P(f_loc | v_loc) + P(f_ref | v_ref) + P(rho | e)) / 3
 // with P(rho | e) of eq. 5.3 = P(r' | e) x P(frame | nature(f_ref), o_ref, r') x P(o_ref | v_ref), where r' is the
-// relation in the relative frame that the interpretation gives. The relative interpretation does not commit to an
-// orientation: its frame probability is the expectation over the orientation belief,
-//   sum_o P(o | v_ref) P(relative | nature, o, r).
+// relation in the relative frame that the interpretation gives, maximised over the reference's orientation o as
+// eq. 5.3 says (for the relative interpretation r' = r for every o; o still weighs the frame probability).
 // Each interpretation is assessed under a scheme of reference-frame use (statistical, relative-preferring,
 // intrinsic-preferring; 5.3.4): 15 interpretations per directed edge when adaptation is on.
 //

@@ -218,9 +218,8 @@ bool FramePrior::FramesCoincide(Nature nature, Orientation o, Relation relative)
 }
 
 void FramePrior::SetIntrinsic(Scheme s, Nature nature, Orientation o, Relation relative, double p_intrinsic) {
-  const bool same = FramesCoincide(nature, o, relative);
-  p_[Index(s, Frame::kIntrinsic, nature, o, relative)] = same ? 1.0 : p_intrinsic;
-  p_[Index(s, Frame::kRelative, nature, o, relative)] = same ? 1.0 : 1.0 - p_intrinsic;
+  p_[Index(s, Frame::kIntrinsic, nature, o, relative)] = p_intrinsic;
+  p_[Index(s, Frame::kRelative, nature, o, relative)] = 1.0 - p_intrinsic;
 }
 
 CategoryTable LoadCategoryTable(std::string_view json_text) {
@@ -277,13 +276,7 @@ FramePrior LoadFramePrior(std::string_view json_text) {
           const std::string rp = op + "." + RelationId(rel);
           if (!jo.contains(RelationId(rel))) Bad(rp + " is missing", rp);
           const Json& v = jo[RelationId(rel)];
-          if (FramePrior::FramesCoincide(nature, orient, rel)) {
-            if (!v.is_null()) Bad(rp + " must be null: both frames give the same word there", rp);
-            continue;
-          }
-          if (!v.is_number() || !(v.get<double>() >= 0.0 && v.get<double>() <= 1.0)) {
-            Bad(rp + " must be P(intrinsic) in [0, 1] (the frames differ there)", rp);
-          }
+          if (!v.is_number() || !(v.get<double>() >= 0.0 && v.get<double>() <= 1.0)) Bad(rp + " must be P(intrinsic) in [0, 1]", rp);
           prior.SetIntrinsic(scheme, nature, orient, rel, v.get<double>());
         }
       }

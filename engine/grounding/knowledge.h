@@ -82,12 +82,12 @@ const char* SchemeId(Scheme s);
 class FramePrior {
  public:
   FramePrior();  // every dissociated cell 0.5 (uniform), for tests
-  // P(frame | nature, o, r'): r' is the located object's relation to the reference in the relative frame. Where
-  // both frames give the same word for (nature, o, r') the answer is 1.0 for both frames.
+  // P(frame | nature, o, r'): r' is the located object's relation to the reference in the relative frame;
+  // P(relative) + P(intrinsic) = 1 in every cell, also where both frames happen to give the same word.
   double Probability(Scheme s, Frame f, Nature nature, Orientation o, Relation relative) const {
     return p_[Index(s, f, nature, o, relative)];
   }
-  // Whether both frames give the same word at (nature, o, r').
+  // Whether both frames give the same word at (nature, o, r') (e.g. a shelf facing the viewer).
   static bool FramesCoincide(Nature nature, Orientation o, Relation relative);
   void SetIntrinsic(Scheme s, Nature nature, Orientation o, Relation relative, double p_intrinsic);
 

@@ -17,7 +17,8 @@ TEST(OpenApiTest, DocumentMatchesRouteTable) {
   storage::Store store(so);
   GridService service(store, {}, {});
   SceneService scenes(store, {});
-  HttpApi api(service, scenes, {});
+  FurnitureService furniture(store, {});
+  HttpApi api(service, scenes, furniture, {});
   const Json doc = Json::parse(HttpApi::OpenApiDocument());
   ASSERT_TRUE(doc.contains("paths"));
   std::set<std::string> registered, documented;

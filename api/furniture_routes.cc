@@ -1,0 +1,71 @@
+// Routes of furniture graphs and grounding (thesis 5.3): parse, call FurnitureService, serialise.
+#include <cmath>
+
+#include "api/http_api.h"
+#include "schema/error.h"
+
+namespace anchordb::api {
+namespace {
+
+Response JsonResponse(const Json& j, int status = 200) { return {status, "application/json", j.dump(), {}}; }
+
+std::int64_t GraphId(const PathParams& p) {
+  const std::string& text = p["graph"];
+  if (text.empty() || text.size() > 18 || text.find_first_not_of("0123456789") != std::string::npos) {
+    throw Error(ErrorCode::kNotFound, "furniture graph '" + text + "' does not exist (ids are integers)", "graph");
+  }
+  return std::stoll(text);
+}
+
+// An integer query parameter in [lo, hi], or `fallback` when absent.
+std::int64_t QueryInteger(const httplib::Request& req, const std::string& name, std::int64_t fallback, std::int64_t lo,
+                          std::int64_t hi) {
+  if (!req.has_param(name)) return fallback;
+  const std::string text = req.get_param_value(name);
+  if (text.empty() || text.size() > 18 || text.find_first_not_of("0123456789") != std::string::npos) {
+    throw Error(ErrorCode::kInvalidArgument, name + " must be a non-negative integer", name);
+  }
+  const std::int64_t v = std::stoll(text);
+  if (v < lo || v > hi) {
+    throw Error(ErrorCode::kUnprocessable, name + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", name);
+  }
+  return v;
+}
+
+}  // namespace
+
+void HttpApi::AddFurnitureRoutes() {
+  FurnitureService& f = furniture_;
+  Add("POST", "/v1/maps/{map}/furniture-graphs", Role::kWriter,
+      "Build a furniture graph from furniture seen from a viewpoint (viewpoint, furniture with category "
+      "probabilities, params n_best/sigma/edge_max_gap_m/relation_sharpness/adaptation/frame_prior)",
+      [&f](const httplib::Request& req, const PathParams& p) { return JsonResponse(f.Create(p["map"], json::ParseObject(req.body)), 201); });
+  Add("GET", "/v1/maps/{map}/furniture-graphs", Role::kReader, "Furniture graphs of a map, newest first (before=, limit=)",
+      [&f](const httplib::Request& req, const PathParams& p) {
+        return JsonResponse(f.List(p["map"], QueryInteger(req, "before", 0, 0, 9'000'000'000'000'000'000),
+                                   static_cast<int>(QueryInteger(req, "limit", 100, 1, 1000))));
+      });
+  Add("GET", "/v1/maps/{map}/furniture-graphs/{graph}", Role::kReader,
+      "The best furniture graph: vertices with p(f) and p(o), edges with p(r), and the grounded descriptions",
+      [&f](const httplib::Request&, const PathParams& p) { return JsonResponse(f.Get(p["map"], GraphId(p))); });
+  Add("POST", "/v1/maps/{map}/furniture-graphs/{graph}/descriptions", Role::kWriter,
+      "Ground one spatial description: {located, relation, reference} or {text} (\"the table is in front of the shelf\")",
+      [&f](const httplib::Request& req, const PathParams& p) {
+        return JsonResponse(f.Describe(p["map"], GraphId(p), json::ParseObject(req.body)), 201);
+      });
+  Add("GET", "/v1/maps/{map}/furniture-graphs/{graph}/hypotheses", Role::kReader,
+      "The live n-best hypotheses, best first (limit=, default 20)", [&f](const httplib::Request& req, const PathParams& p) {
+        return JsonResponse(f.Hypotheses(p["map"], GraphId(p), static_cast<int>(QueryInteger(req, "limit", 20, 1, 100000))));
+      });
+  Add("POST", "/v1/maps/{map}/furniture-graphs/{graph}:reset", Role::kWriter,
+      "Forget the descriptions: back to the graph as seen", [&f](const httplib::Request&, const PathParams& p) {
+        return JsonResponse(f.Reset(p["map"], GraphId(p)));
+      });
+  Add("POST", "/v1/maps/{map}/furniture-graphs/{graph}:describe", Role::kReader,
+      "Speech production: how this listener most likely names two pieces and their relation {located, reference}",
+      [&f](const httplib::Request& req, const PathParams& p) {
+        return JsonResponse(f.Produce(p["map"], GraphId(p), json::ParseObject(req.body)));
+      });
+}
+
+}  // namespace anchordb::api

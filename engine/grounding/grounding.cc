@@ -1,0 +1,256 @@
+#include "engine/grounding/grounding.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "schema/error.h"
+
+namespace anchordb::engine::grounding {
+namespace {
+
+// I(word | intrinsic, o) for every nature, orientation and word, computed once.
+struct IntrinsicTable {
+  Relation to_relative[kNatureCount][kOrientationCount][kRelationCount];
+  IntrinsicTable() {
+    for (int n = 0; n < kNatureCount; ++n) {
+      for (int o = 0; o < kOrientationCount; ++o) {
+        for (int w = 0; w < kRelationCount; ++w) {
+          to_relative[n][o][w] = IntrinsicToRelative(static_cast<Relation>(w), static_cast<Nature>(n), static_cast<Orientation>(o));
+        }
+      }
+    }
+  }
+};
+
+const IntrinsicTable& Intrinsic() {
+  static const IntrinsicTable kTable;
+  return kTable;
+}
+
+std::size_t Idx(int v) { return static_cast<std::size_t>(v); }
+
+void CheckDescription(const Knowledge& knowledge, const Description& d) {
+  const int k = knowledge.categories.size();
+  if (d.located < 0 || d.located >= k || d.reference < 0 || d.reference >= k) {
+    throw Error(ErrorCode::kInvalidArgument, "description names a category outside the table");
+  }
+  if (static_cast<int>(d.relation) >= kRelationCount) {
+    throw Error(ErrorCode::kInvalidArgument, "description has a relation outside the vocabulary", "relation");
+  }
+}
+
+struct Candidate {
+  double total = 0.0;
+  double step = 0.0;
+  std::uint64_t order = 0;  // generation order: (parent rank, scheme, edge, interpretation)
+  std::uint32_t parent = 0;
+  std::uint16_t directed = 0;
+  std::uint8_t interpretation = 0;
+  Scheme scheme = Scheme::kStatistical;
+  Relation relative = Relation::kLeftOf;
+};
+
+}  // namespace
+
+std::array<InterpretationScore, kInterpretationCount> ScoreInterpretations(const FurnitureGraph& graph,
+                                                                           const GraphState& state,
+                                                                           const Knowledge& knowledge, Scheme s,
+                                                                           const Description& d, int directed) {
+  const int k = graph.category_count;
+  const int a = graph.Located(directed), b = graph.Reference(directed);
+  const double categories = state.category[Idx(a * k + d.located)] + state.category[Idx(b * k + d.reference)];
+  const Nature nature = knowledge.categories[d.reference].nature;
+  const double* p_r = &state.relation[Idx(directed * kRelationCount)];
+  const double* p_o = &state.orientation[Idx(b * kOrientationCount)];
+  const FramePrior& prior = knowledge.prior;
+  std::array<InterpretationScore, kInterpretationCount> out{};
+  double best_relative = 0.0;
+  for (int o = 0; o < kOrientationCount; ++o) {
+    best_relative = std::max(best_relative, p_o[o] * prior.Probability(s, Frame::kRelative, nature, static_cast<Orientation>(o), d.relation));
+  }
+  out[0].relative = d.relation;
+  out[0].rho = p_r[static_cast<int>(d.relation)] * best_relative;
+  out[0].score = (categories + out[0].rho) / 3.0;
+  const auto& to_relative = Intrinsic().to_relative[static_cast<int>(nature)];
+  for (int o = 0; o < kOrientationCount; ++o) {
+    const Relation r = to_relative[o][static_cast<int>(d.relation)];
+    InterpretationScore& x = out[Idx(o + 1)];
+    x.relative = r;
+    x.rho = p_r[static_cast<int>(r)] * prior.Probability(s, Frame::kIntrinsic, nature, static_cast<Orientation>(o), r) * p_o[o];
+    x.score = (categories + x.rho) / 3.0;
+  }
+  return out;
+}
+
+void DampedUpdate(double* p, const double* target, int size, double sigma) {
+  double sum = 0.0;
+  for (int i = 0; i < size; ++i) sum += p[i] += (target[i] - p[i]) / sigma;
+  if (sum > 0.0) {
+    for (int i = 0; i < size; ++i) p[i] /= sum;
+  }
+}
+
+Distribution4 OrientationTarget(const FurnitureGraph& graph, int directed, Relation word, Nature nature) {
+  const Distribution4& visual = graph.Visual(directed);
+  Distribution4 t{};
+  double sum = 0.0;
+  for (int o = 0; o < kOrientationCount; ++o) {
+    sum += t[Idx(o)] = visual[Idx(static_cast<int>(Intrinsic().to_relative[static_cast<int>(nature)][o][static_cast<int>(word)]))];
+  }
+  if (sum > 0.0) {
+    for (double& v : t) v /= sum;
+  }
+  return t;
+}
+
+GraphState ApplyMatch(const FurnitureGraph& graph, const GraphState& state, const Knowledge& knowledge,
+                      const Description& d, const Match& match, double sigma) {
+  GraphState out = state;
+  const int k = graph.category_count;
+  const int a = graph.Located(match.directed_edge), b = graph.Reference(match.directed_edge);
+  std::vector<double> target(Idx(k), 0.0);
+  target[Idx(d.located)] = 1.0;
+  DampedUpdate(&out.category[Idx(a * k)], target.data(), k, sigma);
+  target[Idx(d.located)] = 0.0;
+  target[Idx(d.reference)] = 1.0;
+  DampedUpdate(&out.category[Idx(b * k)], target.data(), k, sigma);
+  Distribution4 relation{};
+  relation[Idx(static_cast<int>(match.relative))] = 1.0;
+  DampedUpdate(&out.relation[Idx(match.directed_edge * kRelationCount)], relation.data(), kRelationCount, sigma);
+  if (FrameOf(match.interpretation) == Frame::kIntrinsic) {
+    const Distribution4 t = OrientationTarget(graph, match.directed_edge, d.relation, knowledge.categories[d.reference].nature);
+    DampedUpdate(&out.orientation[Idx(b * kOrientationCount)], t.data(), kOrientationCount, sigma);
+  }
+  return out;
+}
+
+HypothesisSet InitialHypotheses(const FurnitureGraph& graph) {
+  HypothesisSet set;
+  Hypothesis g0;
+  g0.id = 0;
+  g0.state = graph.initial;
+  set.ranked.push_back(std::move(g0));
+  set.next_id = 1;
+  return set;
+}
+
+HypothesisSet Ground(const FurnitureGraph& graph, const Knowledge& knowledge, const HypothesisSet& current,
+                     const Description& d, const GroundingParams& params) {
+  CheckDescription(knowledge, d);
+  if (graph.category_count != knowledge.categories.size()) {
+    throw Error(ErrorCode::kInternal, "graph and knowledge disagree on the number of categories");
+  }
+  if (graph.edges.empty()) throw Error(ErrorCode::kUnprocessable, "the furniture graph has no edges");
+  if (current.ranked.empty()) throw Error(ErrorCode::kInternal, "no live hypothesis");
+  if (params.n_best < 1 || !(params.sigma >= 1.0) || params.schemes.empty()) {
+    throw Error(ErrorCode::kInvalidArgument, "grounding needs n_best >= 1, sigma >= 1 and at least one scheme");
+  }
+  const int directed_count = graph.DirectedEdgeCount();
+  std::vector<Candidate> candidates;
+  candidates.reserve(current.ranked.size() * Idx(directed_count) * kInterpretationCount *
+                     (current.step == 0 ? params.schemes.size() : 1));
+  std::uint64_t order = 0;
+  for (std::size_t p = 0; p < current.ranked.size(); ++p) {
+    const Hypothesis& parent = current.ranked[p];
+    for (const Scheme s : params.schemes) {
+      if (parent.scheme && *parent.scheme != s) continue;
+      for (int e = 0; e < directed_count; ++e) {
+        const auto scores = ScoreInterpretations(graph, parent.state, knowledge, s, d, e);
+        for (int i = 0; i < kInterpretationCount; ++i) {
+          Candidate c;
+          c.step = scores[Idx(i)].score;
+          c.total = parent.score + c.step;
+          c.order = order++;
+          c.parent = static_cast<std::uint32_t>(p);
+          c.directed = static_cast<std::uint16_t>(e);
+          c.interpretation = static_cast<std::uint8_t>(i);
+          c.scheme = s;
+          c.relative = scores[Idx(i)].relative;
+          candidates.push_back(c);
+        }
+      }
+    }
+  }
+  if (candidates.empty()) {
+    throw Error(ErrorCode::kInternal, "no hypothesis can continue: its scheme is not among the configured schemes");
+  }
+  const std::size_t keep = std::min(candidates.size(), Idx(params.n_best));
+  std::partial_sort(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(keep), candidates.end(),
+                    [](const Candidate& x, const Candidate& y) {
+                      if (x.total != y.total) return x.total > y.total;
+                      return x.order < y.order;
+                    });
+  HypothesisSet next;
+  next.step = current.step + 1;
+  next.next_id = current.next_id;
+  next.ranked.reserve(keep);
+  for (std::size_t rank = 0; rank < keep; ++rank) {
+    const Candidate& c = candidates[rank];
+    const Hypothesis& parent = current.ranked[c.parent];
+    Hypothesis h;
+    h.id = next.next_id++;
+    h.parent_id = parent.id;
+    h.scheme = c.scheme;
+    h.score = c.total;
+    Match m;
+    m.directed_edge = c.directed;
+    m.interpretation = c.interpretation;
+    m.relative = c.relative;
+    m.scheme = c.scheme;
+    m.score = c.step;
+    h.state = ApplyMatch(graph, parent.state, knowledge, d, m, params.sigma);
+    h.matches = parent.matches;
+    h.matches.push_back(m);
+    h.lineage = parent.lineage;
+    h.lineage.push_back(h.id);
+    h.lineage_ranks = parent.lineage_ranks;
+    h.lineage_ranks.push_back(static_cast<int>(rank));
+    next.ranked.push_back(std::move(h));
+  }
+  return next;
+}
+
+Production Produce(const FurnitureGraph& graph, const Knowledge& knowledge, const Hypothesis& best, int located,
+                   int reference) {
+  const int directed = graph.FindDirected(located, reference);
+  if (directed < 0) {
+    throw Error(ErrorCode::kUnprocessable, "'" + graph.vertices[Idx(located)].id + "' and '" + graph.vertices[Idx(reference)].id +
+                                               "' share no edge in the furniture graph (they are too far apart)");
+  }
+  const int k = graph.category_count;
+  const GraphState& s = best.state;
+  Production out;
+  out.scheme = best.scheme.value_or(Scheme::kStatistical);
+  const auto argmax = [&](int v, int& category, double& probability) {
+    const double* row = &s.category[Idx(v * k)];
+    category = static_cast<int>(std::max_element(row, row + k) - row);
+    probability = row[category];
+  };
+  argmax(located, out.located_category, out.located_probability);
+  argmax(reference, out.reference_category, out.reference_probability);
+  const Nature nature = knowledge.categories[out.reference_category].nature;
+  // P(word, frame) = sum over the relation r' seen and the orientation o believed of
+  //   P(r' | e) P(o | v_ref) P(frame | nature, o, r'), with the word the frame gives for r'.
+  double by_frame[kRelationCount][2] = {};
+  for (int r = 0; r < kRelationCount; ++r) {
+    const double p_r = s.relation[Idx(directed * kRelationCount + r)];
+    for (int o = 0; o < kOrientationCount; ++o) {
+      const double w = p_r * s.orientation[Idx(reference * kOrientationCount + o)];
+      const auto rel = static_cast<Relation>(r);
+      const auto orient = static_cast<Orientation>(o);
+      by_frame[r][0] += w * knowledge.prior.Probability(out.scheme, Frame::kRelative, nature, orient, rel);
+      const int word = static_cast<int>(RelativeToIntrinsic(rel, nature, orient));
+      by_frame[word][1] += w * knowledge.prior.Probability(out.scheme, Frame::kIntrinsic, nature, orient, rel);
+    }
+  }
+  int best_word = 0;
+  for (int r = 0; r < kRelationCount; ++r) {
+    out.word_probability[Idx(r)] = by_frame[r][0] + by_frame[r][1];
+    if (out.word_probability[Idx(r)] > out.word_probability[Idx(best_word)]) best_word = r;
+  }
+  out.relation = static_cast<Relation>(best_word);
+  out.frame = by_frame[best_word][1] > by_frame[best_word][0] ? Frame::kIntrinsic : Frame::kRelative;
+  return out;
+}
+
+}  // namespace anchordb::engine::grounding

@@ -1,0 +1,910 @@
+#include "tests/eval/merge_cases.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+#include "engine/scene/projection.h"
+#include "engine/scene/scene_model.h"
+#include "sim/renderer.h"
+
+namespace anchordb::eval {
+namespace {
+
+using Eigen::Isometry3d;
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+Isometry3d Translation(const Vector3d& t) {
+  Isometry3d X = Isometry3d::Identity();
+  X.translation() = t;
+  return X;
+}
+
+// Deterministic, portable random numbers (std distributions differ between standard libraries).
+class Rng {
+ public:
+  explicit Rng(std::uint64_t seed) : rng_(seed) {}
+  double Uniform(double lo, double hi) {
+    const double unit = static_cast<double>(rng_() >> 11) * (1.0 / 9007199254740992.0);
+    return lo + (hi - lo) * unit;
+  }
+  Vector3d UnitVector() {
+    const double z = Uniform(-1.0, 1.0), phi = Uniform(0.0, 2.0 * std::numbers::pi);
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    return {r * std::cos(phi), r * std::sin(phi), z};
+  }
+
+ private:
+  std::mt19937_64 rng_;
+};
+
+std::uint64_t Mix(std::uint64_t seed, MergeCase c, sim::Setting s, std::uint64_t salt) {
+  std::uint64_t x = seed * 0x9E3779B97F4A7C15ULL ^ (static_cast<std::uint64_t>(c) + 1) * 0xD1B54A32D192ED03ULL ^
+                    (static_cast<std::uint64_t>(s) + 1) * 0x8CB92BA72F3D8DD7ULL ^ salt * 0xC2B2AE3D27D4EB4FULL;
+  x ^= x >> 31;
+  return x * 0x94D049BB133111EBULL + salt;
+}
+
+// The localisation error of one viewpoint: the stored camera pose is the true one moved by a translation of
+// uniform length in [0, max_t] in a random direction and turned about its optical centre by a uniform angle in
+// [0, max_r] about a random axis.
+Isometry3d WithPoseError(const Isometry3d& X_true, Rng& rng, double max_t, double max_r) {
+  const Vector3d t = rng.UnitVector() * rng.Uniform(0.0, max_t);
+  const Vector3d axis = rng.UnitVector();
+  const double angle = rng.Uniform(0.0, max_r);
+  Isometry3d X = X_true;
+  X.linear() = Eigen::AngleAxisd(angle, axis).toRotationMatrix() * X_true.linear();
+  X.translation() = X_true.translation() + t;
+  return X;
+}
+
+double RotationAngle(const Eigen::Matrix3d& R) { return Eigen::AngleAxisd(R).angle(); }
+
+// ---- geometry of objects ---------------------------------------------------------------------------------------
+
+struct SurfaceSample {
+  Vector3d p, n;  // world point and outward normal
+};
+
+// Points on the surfaces of all primitives of an object (box faces on a 6 x 6 grid; cylinder sides and caps).
+std::vector<SurfaceSample> ObjectSamples(const sim::Scene& scene, int id) {
+  std::vector<SurfaceSample> out;
+  for (const auto& prim : scene.primitives) {
+    if (prim.object_id != id) continue;
+    const auto add = [&](const Vector3d& p_local, const Vector3d& n_local) {
+      out.push_back({prim.X_WorldPrim * p_local, prim.X_WorldPrim.linear() * n_local});
+    };
+    const Vector3d& s = prim.size_m;
+    if (prim.shape == sim::Shape::kBox) {
+      constexpr int kGrid = 6;
+      for (int a = 0; a < 3; ++a) {
+        const int b = (a + 1) % 3, c = (a + 2) % 3;
+        for (const double sign : {-1.0, 1.0}) {
+          for (int i = 0; i < kGrid; ++i) {
+            for (int j = 0; j < kGrid; ++j) {
+              Vector3d p = Vector3d::Zero(), n = Vector3d::Zero();
+              p[a] = sign * 0.5 * s[a];
+              p[b] = (-0.5 + (i + 0.5) / kGrid) * s[b];
+              p[c] = (-0.5 + (j + 0.5) / kGrid) * s[c];
+              n[a] = sign;
+              add(p, n);
+            }
+          }
+        }
+      }
+    } else {
+      const double r = s.x(), h = s.z();
+      for (int k = 0; k < 24; ++k) {
+        const double phi = k * 2.0 * std::numbers::pi / 24;
+        const Vector3d radial(std::cos(phi), std::sin(phi), 0.0);
+        for (int j = 0; j < 6; ++j) add(radial * r + Vector3d(0, 0, (-0.5 + (j + 0.5) / 6) * h), radial);
+        for (const double f : {0.35, 0.7}) {
+          add(radial * r * f + Vector3d(0, 0, 0.5 * h), Vector3d::UnitZ());
+          add(radial * r * f - Vector3d(0, 0, 0.5 * h), -Vector3d::UnitZ());
+        }
+      }
+      add(Vector3d(0, 0, 0.5 * h), Vector3d::UnitZ());
+      add(Vector3d(0, 0, -0.5 * h), -Vector3d::UnitZ());
+    }
+  }
+  if (out.empty()) throw std::invalid_argument("object not in scene");
+  return out;
+}
+
+// Horizontal footprint of an upright object, grown by `margin_m`, as world xy points.
+std::vector<Vector2d> Footprint(const sim::Scene& scene, int id, double margin_m) {
+  std::vector<Vector2d> out;
+  for (const auto& prim : scene.primitives) {
+    if (prim.object_id != id) continue;
+    const Vector3d& s = prim.size_m;
+    if (prim.shape == sim::Shape::kBox) {
+      constexpr int kGrid = 7;
+      for (int i = 0; i < kGrid; ++i) {
+        for (int j = 0; j < kGrid; ++j) {
+          const Vector3d p((-0.5 + i / (kGrid - 1.0)) * (s.x() + 2 * margin_m),
+                           (-0.5 + j / (kGrid - 1.0)) * (s.y() + 2 * margin_m), 0.0);
+          out.push_back((prim.X_WorldPrim * p).head<2>());
+        }
+      }
+    } else {
+      out.push_back(prim.X_WorldPrim.translation().head<2>());
+      for (const double f : {0.5, 1.0}) {
+        for (int k = 0; k < 16; ++k) {
+          const double phi = k * 2.0 * std::numbers::pi / 16;
+          const Vector3d p = Vector3d(std::cos(phi), std::sin(phi), 0.0) * f * (s.x() + margin_m);
+          out.push_back((prim.X_WorldPrim * p).head<2>());
+        }
+      }
+    }
+  }
+  return out;
+}
+
+Vector3d Centre(const sim::Scene& scene, int id) {
+  for (const auto& p : scene.primitives) if (p.object_id == id) return p.X_WorldPrim.translation();
+  throw std::invalid_argument("object not in scene");
+}
+
+// Top of an upright box-shaped object (its first primitive).
+Vector3d TopCentre(const sim::Scene& scene, int id) {
+  for (const auto& p : scene.primitives) {
+    if (p.object_id != id) continue;
+    return p.X_WorldPrim.translation() + Vector3d(0, 0, 0.5 * p.size_m.z());
+  }
+  throw std::invalid_argument("object not in scene");
+}
+
+double Height(const sim::Scene& scene, int id) {
+  for (const auto& p : scene.primitives) if (p.object_id == id) return p.size_m.z();
+  throw std::invalid_argument("object not in scene");
+}
+
+sim::SensorModel Noiseless() {
+  sim::SensorModel s;
+  s.noise = false;
+  s.shadow = false;
+  s.min_range_m = 0.0;
+  s.max_range_m = 100.0;
+  return s;
+}
+
+// A top-down view of the supporting surface (camera 0.3 m above it, below any board above it): tells whether a
+// footprint rests entirely on the bare surface (a static object's top at the surface's height, nothing on it).
+class SurfaceProbe {
+ public:
+  SurfaceProbe(const sim::Scene& scene, const Vector3d& surface_m) : surface_z_(surface_m.z()) {
+    const Vector3d eye = surface_m + Vector3d(0, 0, kHeight);
+    X_CW_ = sim::LookAt(eye, surface_m).inverse();
+    K_.width = K_.height = 2 * kHalf + 1;
+    K_.fx = K_.fy = kHalf * kHeight / kReach;
+    K_.cx = K_.cy = kHalf;
+    frame_ = sim::Render(scene, K_, X_CW_.inverse(), Noiseless(), 0);
+    for (const auto& o : scene.objects) static_[o.id] = o.kind == "static";
+  }
+  bool Free(const Vector2d& xy) const {
+    const Vector3d p = X_CW_ * Vector3d(xy.x(), xy.y(), surface_z_);
+    const double u = K_.fx * p.x() / p.z() + K_.cx, v = K_.fy * p.y() / p.z() + K_.cy;
+    if (u < 0 || v < 0 || u >= K_.width || v >= K_.height) return false;
+    const std::size_t i = static_cast<std::size_t>(v) * K_.width + static_cast<std::size_t>(u);
+    const auto it = static_.find(frame_.object_id[i]);
+    if (it == static_.end() || !it->second) return false;
+    return std::abs(frame_.true_depth_m[i] - kHeight) < 0.004;
+  }
+
+ private:
+  static constexpr int kHalf = 120;
+  static constexpr double kHeight = 0.3, kReach = 0.6;  // sees +-0.6 m around the surface point
+  double surface_z_;
+  Isometry3d X_CW_;
+  PinholeIntrinsics K_;
+  sim::Frame frame_;
+  std::map<int, bool> static_;
+};
+
+// The noiseless depth of a scene from one camera, to test where an object placed into it would be seen.
+struct View {
+  Isometry3d X_WC;
+  Isometry3d X_CW;
+  PinholeIntrinsics K;
+  std::vector<float> depth;
+  double max_range_m = 100.0;
+};
+
+View MakeView(const sim::Scene& scene_without, const Isometry3d& X_WC, const PinholeIntrinsics& K,
+              double max_range_m = 100.0) {
+  View v{X_WC, X_WC.inverse(), K, sim::Render(scene_without, K, X_WC, Noiseless(), 0).true_depth_m, max_range_m};
+  return v;
+}
+
+struct Visibility {
+  int facing = 0, visible = 0, hidden = 0;
+  double Fraction() const { return facing ? static_cast<double>(visible) / facing : 0.0; }
+  // Every surface point that faces the camera is inside the image and clearly (2 cm) behind something.
+  bool FullyOccluded() const { return facing > 0 && hidden == facing; }
+};
+
+Visibility See(const std::vector<SurfaceSample>& samples, const Vector3d& delta, const View& view) {
+  Visibility vis;
+  const Vector3d eye = view.X_WC.translation();
+  for (const auto& s : samples) {
+    const Vector3d p = s.p + delta;
+    if (s.n.dot(eye - p) <= 1e-9) continue;
+    ++vis.facing;
+    const Vector3d c = view.X_CW * p;
+    if (c.z() <= 0.05) continue;
+    const double u = view.K.fx * c.x() / c.z() + view.K.cx, v = view.K.fy * c.y() / c.z() + view.K.cy;
+    if (u < 0 || v < 0 || u >= view.K.width || v >= view.K.height) continue;
+    const float d = view.depth[static_cast<std::size_t>(v) * view.K.width + static_cast<std::size_t>(u)];
+    if ((d == 0.0f || c.z() < d + 0.01) && c.z() <= view.max_range_m) {
+      ++vis.visible;
+    } else if (d > 0.0f && c.z() > d + 0.02) {
+      ++vis.hidden;
+    }
+  }
+  return vis;
+}
+
+// Where to put an object on the supporting surface.
+struct SpotQuery {
+  struct Camera {
+    const View* view;
+    bool hidden;          // true: fully occluded there; false: at least `min_visible` of its facing surface seen
+    double min_visible = 0.9;
+  };
+  std::vector<Camera> cameras;
+  double min_move_m = 0.0, max_move_m = 0.45, preferred_move_m = 0.2;
+  double margin_m = 0.015;  // free space kept around the footprint
+  bool prefer_visible = false;  // choose the place seen best by the `hidden == false` cameras, then by distance
+  std::optional<Vector2d> target;  // if set: the place nearest to this point (instead of preferred_move_m)
+};
+
+// Searches a 1 cm grid around the surface point for the object's centre: the grown footprint must lie on the bare
+// surface of `probe_scene` (which still contains the object at its old place when it is moved, so the new place
+// never overlaps the old one), and every camera's requirement must hold. Returns the translation to apply.
+std::optional<Vector3d> FindSpot(const sim::Scene& with_object, int id, const sim::Scene& probe_scene,
+                                 const Vector3d& surface_m, const SpotQuery& q) {
+  const SurfaceProbe probe(probe_scene, surface_m);
+  const std::vector<SurfaceSample> samples = ObjectSamples(with_object, id);
+  const std::vector<Vector2d> footprint = Footprint(with_object, id, q.margin_m);
+  const Vector3d origin = Centre(with_object, id);
+  double best_cost = std::numeric_limits<double>::infinity();
+  std::optional<Vector3d> best;
+  for (int i = -60; i <= 60; ++i) {
+    for (int j = -60; j <= 60; ++j) {
+      const Vector3d delta(surface_m.x() + 0.01 * i - origin.x(), surface_m.y() + 0.01 * j - origin.y(), 0.0);
+      const double move = delta.norm();
+      if (move < q.min_move_m || move > q.max_move_m) continue;
+      bool free = true;
+      for (const auto& f : footprint) free = free && probe.Free(f + delta.head<2>());
+      if (!free) continue;
+      bool ok = true;
+      double seen = 1.0;
+      for (const auto& cam : q.cameras) {
+        const Visibility vis = See(samples, delta, *cam.view);
+        if (cam.hidden) {
+          ok = ok && vis.FullyOccluded();
+        } else {
+          ok = ok && vis.Fraction() >= cam.min_visible;
+          seen = std::min(seen, vis.Fraction());
+        }
+        if (!ok) break;
+      }
+      if (!ok) continue;
+      const double distance = q.target ? (origin.head<2>() + delta.head<2>() - *q.target).norm()
+                                       : std::abs(move - q.preferred_move_m);
+      const double cost = (q.prefer_visible ? -seen : 0.0) + 0.01 * distance;
+      if (cost < best_cost) best_cost = cost, best = delta;
+    }
+  }
+  return best;
+}
+
+// ---- the cases -----------------------------------------------------------------------------------------------
+
+struct Phase {
+  Isometry3d X_true;
+  sim::Scene first;                  // the scene of the first frames at this viewpoint
+  std::optional<sim::Scene> second;  // a change during the observation: the scene from half of the frames on
+  const sim::Scene& Last() const { return second ? *second : first; }
+};
+
+struct Script {
+  std::vector<Phase> phases;
+  std::vector<int> expected;                 // objects a perfect system calls movable at the last viewpoint
+  std::vector<std::pair<int, int>> hidden;   // (phase, object): must not be seen there (end of the phase)
+  std::vector<std::pair<int, int>> shown;    // (phase, object): must be seen there (end of the phase)
+  sim::SensorModel sensor;
+  double frustum_far_m = 5.0;
+  std::ostringstream description;
+};
+
+struct Ids {
+  int cup = 0, box = 0, book = 0, characteristic = 0, tall = 0;
+};
+
+Ids IdsOf(const sim::SettingScene& st) {
+  const auto& m = st.movable_ids;
+  Ids ids;
+  ids.cup = m.at(m.size() - 3);
+  ids.box = m.at(m.size() - 2);
+  ids.book = m.at(m.size() - 1);
+  ids.characteristic = m.size() > 3 ? m.front() : 0;
+  ids.tall = st.tall_object_id;
+  return ids;
+}
+
+std::string Fmt(const Vector3d& d) {
+  std::ostringstream s;
+  s.precision(2);
+  s << std::fixed << "(" << d.x() << ", " << d.y() << ")";
+  return s.str();
+}
+
+[[noreturn]] void NoSpot(MergeCase c, sim::Setting s, const char* what) {
+  throw std::runtime_error(std::string("merge case ") + MergeCaseName(c) + " in " + sim::SettingName(s) +
+                           ": no place found for " + what);
+}
+
+sim::Scene Without(sim::Scene scene, int id) {
+  const bool present =
+      std::any_of(scene.objects.begin(), scene.objects.end(), [&](const sim::Object& o) { return o.id == id; });
+  if (present) sim::RemoveObject(scene, id);
+  return scene;
+}
+
+sim::Scene Moved(sim::Scene scene, int id, const Vector3d& delta) {
+  sim::MoveObject(scene, id, Translation(delta));
+  return scene;
+}
+
+// A spot visible from both viewpoints (at least 90 % of the object's facing surface seen from each) for an object
+// that moves 12-35 cm (preferably 20 cm) from where it stands in `scene`: far enough that its new volume does not
+// overlap its old one (no A1-like effect). Where the surface is too crowded for that (the shelf board with some
+// seeds), 80 % and up to 45 cm, then also only 0.5 cm instead of 1.5 cm of free space around it.
+std::optional<Vector3d> VisibleMove(const sim::Scene& scene, int id, const Vector3d& surface, const Isometry3d& XA,
+                                    const Isometry3d& XB, const PinholeIntrinsics& K) {
+  const sim::Scene without = Without(scene, id);
+  const View a = MakeView(without, XA, K), b = MakeView(without, XB, K);
+  struct Try {
+    double visible, max_move, margin;
+  };
+  for (const Try t : {Try{0.9, 0.35, 0.015}, Try{0.8, 0.45, 0.015}, Try{0.8, 0.45, 0.005}}) {
+    SpotQuery q;
+    q.cameras = {{&a, false, t.visible}, {&b, false, t.visible}};
+    q.min_move_m = 0.12;
+    q.max_move_m = t.max_move;
+    q.margin_m = t.margin;
+    q.preferred_move_m = 0.2;
+    if (auto d = FindSpot(scene, id, scene, surface, q)) return d;
+  }
+  return std::nullopt;
+}
+
+// A spot occluded from `X_hidden` (every point of it behind something) and seen as well as possible from the
+// `X_seen` cameras (at least 60 % of its facing surface), anywhere on the surface; the object is absent from
+// `probe_scene` when it is added, present at its old place when it is moved.
+std::optional<Vector3d> HiddenSpot(const sim::Scene& with_object, int id, const sim::Scene& probe_scene,
+                                   const Vector3d& surface, const Isometry3d& X_hidden,
+                                   const std::vector<Isometry3d>& X_seen, const PinholeIntrinsics& K,
+                                   double min_seen = 0.6) {
+  const sim::Scene without = Without(probe_scene, id);
+  const View h = MakeView(without, X_hidden, K);
+  std::vector<View> seen;
+  for (const auto& X : X_seen) seen.push_back(MakeView(without, X, K));
+  SpotQuery q;
+  q.cameras = {{&h, true}};
+  for (const auto& v : seen) q.cameras.push_back({&v, false, min_seen});
+  q.min_move_m = 0.0;
+  q.max_move_m = 0.85;
+  q.preferred_move_m = 0.0;
+  q.prefer_visible = true;
+  return FindSpot(with_object, id, probe_scene, surface, q);
+}
+
+// Sets the box up as an occluder for `X_hide`: turned so that its wide side (15 cm) faces that camera and put on
+// the bare place nearest to 15 cm in front of the surface point (towards the camera), so that there is bare
+// surface behind it, in its shadow, that another viewpoint 45 cm away can see into.
+std::optional<sim::Scene> WithOccluder(const sim::Scene& scene, int box, const Vector3d& surface,
+                                       const Isometry3d& X_hide) {
+  Vector2d towards = (surface - X_hide.translation()).head<2>();
+  towards.normalize();
+  const Eigen::Matrix3d R = [&] {
+    for (const auto& p : scene.primitives) if (p.object_id == box) return p.X_WorldPrim.linear();
+    throw std::invalid_argument("object not in scene");
+  }();
+  // The box's local x (its 10 cm side) along the line of sight.
+  const double yaw = std::atan2(towards.y(), towards.x()) - std::atan2(R(1, 0), R(0, 0));
+  const Vector3d c = Centre(scene, box);
+  sim::Scene turned = scene;
+  sim::MoveObject(turned, box, Translation(c) * Eigen::AngleAxisd(yaw, Vector3d::UnitZ()) * Translation(-c));
+  SpotQuery q;
+  q.max_move_m = 1.0;
+  q.target = surface.head<2>() - 0.15 * towards;
+  const auto d = FindSpot(turned, box, Without(scene, box), surface, q);
+  if (!d) return std::nullopt;
+  return Moved(turned, box, *d);
+}
+
+Script BuildScript(sim::Setting setting_id, MergeCase c, std::uint64_t seed, const PinholeIntrinsics& K) {
+  const sim::SettingScene st = sim::MakeSetting(setting_id, seed);
+  const Ids ids = IdsOf(st);
+  const Vector3d surface = st.surface_point_m;
+  const Isometry3d XA = st.X_WorldCameraA, XB = st.X_WorldCameraB;
+  const sim::Scene& s0 = st.scene;
+  Script sc;
+  const auto two = [&](sim::Scene a_first, std::optional<sim::Scene> a_second, sim::Scene b) {
+    sc.phases = {{XA, std::move(a_first), std::move(a_second)}, {XB, std::move(b), std::nullopt}};
+  };
+  switch (c) {
+    case MergeCase::kN0: {
+      // The box (15 x 10 x 20 cm) moves 12-35 cm along the shelf board halfway through the observation at A, to a
+      // place well seen from A and from B; at B it stands there. Expected movable at B: the box.
+      const auto d = VisibleMove(s0, ids.box, surface, XA, XB, K);
+      if (!d) NoSpot(c, setting_id, "the box");
+      const sim::Scene moved = Moved(s0, ids.box, *d);
+      two(s0, moved, moved);
+      sc.expected = {ids.box};
+      sc.shown = {{0, ids.box}, {1, ids.box}};
+      sc.description << "box moved by " << Fmt(*d) << " m during A";
+      break;
+    }
+    case MergeCase::kM1:
+    case MergeCase::kN1: {
+      // Raw scene: the box stands broadside to A (WithOccluder) and the cup stands (from the start) where the box
+      // hides it completely from A but B sees it, in front of background A knew (figure 3.6, example 1). Nothing
+      // changes: not expected movable.
+      const auto occ = WithOccluder(s0, ids.box, surface, XA);
+      if (!occ) NoSpot(c, setting_id, "the box as an occluder");
+      const auto d = HiddenSpot(*occ, ids.cup, *occ, surface, XA, {XB}, K);
+      if (!d) NoSpot(c, setting_id, "the cup hidden from A");
+      sim::Scene scene = Moved(*occ, ids.cup, *d);
+      sc.hidden = {{0, ids.cup}};
+      sc.shown = {{1, ids.cup}};
+      sc.description << "box at " << Fmt(Centre(scene, ids.box)) << ", cup hidden from A at "
+                     << Fmt(Centre(scene, ids.cup));
+      if (c == MergeCase::kM1) {
+        two(scene, std::nullopt, scene);
+        break;
+      }
+      // N1 also moves the bottle (30 cm) meanwhile, 12-35 cm to a place seen from A and B: the positives of N1.
+      const auto e = VisibleMove(scene, ids.tall, surface, XA, XB, K);
+      if (!e) NoSpot(c, setting_id, "the bottle");
+      two(scene, std::nullopt, Moved(scene, ids.tall, *e));
+      sc.expected = {ids.tall};
+      sc.shown.push_back({1, ids.tall});
+      sc.description << "; bottle moved by " << Fmt(*e) << " m meanwhile";
+      break;
+    }
+    case MergeCase::kM0: {
+      // The box and then the cup move 12-35 cm each halfway through the observation at A, to places seen from A and
+      // B. Expected movable at B: both.
+      const auto d1 = VisibleMove(s0, ids.box, surface, XA, XB, K);
+      if (!d1) NoSpot(c, setting_id, "the box");
+      const sim::Scene one = Moved(s0, ids.box, *d1);
+      const auto d2 = VisibleMove(one, ids.cup, surface, XA, XB, K);
+      if (!d2) NoSpot(c, setting_id, "the cup");
+      const sim::Scene moved = Moved(one, ids.cup, *d2);
+      two(s0, moved, moved);
+      sc.expected = {ids.cup, ids.box};
+      sc.shown = {{1, ids.cup}, {1, ids.box}};
+      sc.description << "box moved by " << Fmt(*d1) << ", cup by " << Fmt(*d2) << " m during A";
+      break;
+    }
+    case MergeCase::kM2: {
+      // The cup is put on top of the box halfway through the observation at A. Expected movable at B: the cup.
+      const Vector3d top = TopCentre(s0, ids.box) + Vector3d(0, 0, 0.5 * Height(s0, ids.cup));
+      const Vector3d d = top - Centre(s0, ids.cup);
+      const sim::Scene moved = Moved(s0, ids.cup, d);
+      two(s0, moved, moved);
+      sc.expected = {ids.cup};
+      sc.shown = {{1, ids.cup}};
+      sc.description << "cup stacked on the box during A";
+      break;
+    }
+    case MergeCase::kM3: {
+      // The box moves 12-35 cm to a place seen from A and B and the cup is put on top of it, both halfway through
+      // the observation at A. Expected movable at B: both.
+      const auto d = VisibleMove(s0, ids.box, surface, XA, XB, K);
+      if (!d) NoSpot(c, setting_id, "the box");
+      const sim::Scene box_moved = Moved(s0, ids.box, *d);
+      const Vector3d top = TopCentre(box_moved, ids.box) + Vector3d(0, 0, 0.5 * Height(s0, ids.cup));
+      const sim::Scene moved = Moved(box_moved, ids.cup, top - Centre(s0, ids.cup));
+      two(s0, moved, moved);
+      sc.expected = {ids.cup, ids.box};
+      sc.shown = {{1, ids.cup}, {1, ids.box}};
+      sc.description << "box moved by " << Fmt(*d) << " m and cup stacked on it during A";
+      break;
+    }
+    case MergeCase::kM4: {
+      // The box stands broadside to A (WithOccluder). Halfway through the observation at A the cup is moved to
+      // where the box hides it completely from A; B sees it there. A saw it leave but never saw where it went: the
+      // merge must not call it movable (premise 2).
+      const auto occ = WithOccluder(s0, ids.box, surface, XA);
+      if (!occ) NoSpot(c, setting_id, "the box as an occluder");
+      const auto d = HiddenSpot(*occ, ids.cup, *occ, surface, XA, {XB}, K);
+      if (!d) NoSpot(c, setting_id, "the cup hidden from A");
+      const sim::Scene moved = Moved(*occ, ids.cup, *d);
+      two(*occ, moved, moved);
+      sc.hidden = {{0, ids.cup}};
+      sc.shown = {{1, ids.cup}};
+      sc.description << "cup moved by " << Fmt(*d) << " m into A's occlusion during A";
+      break;
+    }
+    case MergeCase::kM5: {
+      // Raw scene without the box at A; meanwhile the box is put on a bare place seen from A and B (nearest to its
+      // usual place). Expected movable at B: the box.
+      const sim::Scene raw = Without(s0, ids.box);
+      const View a = MakeView(raw, XA, K), b = MakeView(raw, XB, K);
+      SpotQuery q;
+      q.cameras = {{&a, false}, {&b, false}};
+      q.preferred_move_m = 0.0;
+      const auto d = FindSpot(s0, ids.box, raw, surface, q);
+      if (!d) NoSpot(c, setting_id, "the box");
+      two(raw, std::nullopt, Moved(s0, ids.box, *d));
+      sc.expected = {ids.box};
+      sc.shown = {{1, ids.box}};
+      sc.description << "box added meanwhile at " << Fmt(Centre(s0, ids.box) + *d);
+      break;
+    }
+    case MergeCase::kM6: {
+      // The box stands at A and is taken away meanwhile. Nothing is movable at B.
+      two(s0, std::nullopt, Without(s0, ids.box));
+      sc.shown = {{0, ids.box}};
+      sc.description << "box removed meanwhile";
+      break;
+    }
+    case MergeCase::kM7: {
+      // Raw scene without the cup at A, the box broadside to A (WithOccluder); meanwhile the cup is put where the
+      // box hides it completely from A; B sees it. Nothing tells that it was not there before: not expected
+      // movable (premise 2).
+      const auto occ = WithOccluder(s0, ids.box, surface, XA);
+      if (!occ) NoSpot(c, setting_id, "the box as an occluder");
+      const sim::Scene raw = Without(*occ, ids.cup);
+      const auto d = HiddenSpot(*occ, ids.cup, raw, surface, XA, {XB}, K);
+      if (!d) NoSpot(c, setting_id, "the cup hidden from A");
+      two(raw, std::nullopt, Moved(*occ, ids.cup, *d));
+      sc.shown = {{1, ids.cup}};
+      sc.hidden = {{0, ids.cup}};  // absent at A: checked on a render of the B scene from A
+      sc.description << "cup added meanwhile, hidden from A, at " << Fmt(Centre(*occ, ids.cup) + *d);
+      break;
+    }
+    case MergeCase::kM8: {
+      // Raw scene without the bottle at A; meanwhile the bottle (30 cm) is put on a bare place seen from A and B
+      // (nearest to its usual place). The sensor's range ends 30 cm (in optical depth) behind the bottle's place as
+      // seen from A, so A never measured the wall behind the bottle's upper part: nothing is known there, only that
+      // it is empty up to A's far boundary (the merge's frustum_far_m is that range). Expected movable at B: the
+      // bottle.
+      const sim::Scene raw = Without(s0, ids.tall);
+      const double depth_at_a = (XA.inverse() * Centre(s0, ids.tall)).z();
+      sc.sensor.max_range_m = depth_at_a + 0.3;
+      sc.frustum_far_m = sc.sensor.max_range_m;
+      const View a = MakeView(raw, XA, K), b = MakeView(raw, XB, K);
+      SpotQuery q;
+      q.cameras = {{&a, false}, {&b, false}};
+      q.preferred_move_m = 0.0;
+      const auto d = FindSpot(s0, ids.tall, raw, surface, q);
+      if (!d) NoSpot(c, setting_id, "the bottle");
+      two(raw, std::nullopt, Moved(s0, ids.tall, *d));
+      sc.expected = {ids.tall};
+      sc.shown = {{1, ids.tall}};
+      sc.description << "bottle added meanwhile at " << Fmt(Centre(s0, ids.tall) + *d) << ", range "
+                     << sc.sensor.max_range_m << " m";
+      break;
+    }
+    case MergeCase::kM9: {
+      // Three viewpoints. A: raw scene, the box broadside to B (WithOccluder). Meanwhile the cup is moved to where
+      // the box hides it completely from B, on a place A saw bare. B: the cup is not seen. C (back near A: A's eye moved 15 cm away from B, looking at the
+      // surface point): the cup is seen at its new place; the models of A and B are both merged into C. Expected
+      // movable at C: the cup (A knew its place bare; B's model must not hide it: premise 2 for B).
+      const Vector3d eye_a = XA.translation(), eye_b = XB.translation();
+      const Vector3d eye_c = eye_a + 0.15 * (eye_a - eye_b).normalized();
+      const Isometry3d XC = sim::LookAt(eye_c, surface);
+      const auto occ = WithOccluder(s0, ids.box, surface, XB);
+      if (!occ) NoSpot(c, setting_id, "the box as an occluder");
+      const auto d = HiddenSpot(*occ, ids.cup, *occ, surface, XB, {XA, XC}, K);
+      if (!d) NoSpot(c, setting_id, "the cup hidden from B");
+      const sim::Scene moved = Moved(*occ, ids.cup, *d);
+      sc.phases = {{XA, *occ, std::nullopt}, {XB, moved, std::nullopt}, {XC, moved, std::nullopt}};
+      sc.expected = {ids.cup};
+      sc.hidden = {{1, ids.cup}};
+      sc.shown = {{0, ids.cup}, {2, ids.cup}};
+      sc.description << "cup moved by " << Fmt(*d) << " m meanwhile into B's occlusion; C back near A";
+      break;
+    }
+    case MergeCase::kDO: {
+      // The door leaf (opened 30 deg into the room at A) is closed meanwhile: turned 30 deg about its hinge (the
+      // leaf's bottom corner at the wall) into the door frame. (B, turned 35 deg away from the door, sees the
+      // closed leaf best: ~22000 pixels, against ~13000 at 30 deg and none beyond 50 deg.) Expected movable at B:
+      // the door (leaf and handle).
+      const int door = ids.characteristic;
+      Vector3d hinge = Vector3d::Zero();
+      for (const auto& p : s0.primitives) {
+        if (p.object_id != door) continue;
+        hinge = p.X_WorldPrim * Vector3d(-0.5 * p.size_m.x(), -0.5 * p.size_m.y(), -0.5 * p.size_m.z());
+        break;
+      }
+      sim::Scene moved = s0;
+      sim::MoveObject(moved, door, Translation(hinge) * Eigen::AngleAxisd(-30.0 * kDeg, Vector3d::UnitZ()) *
+                                       Translation(-hinge));
+      two(s0, std::nullopt, moved);
+      sc.expected = {door};
+      sc.shown = {{1, door}};
+      sc.description << "door closed meanwhile";
+      break;
+    }
+    case MergeCase::kKI1: {
+      // The kitchen chair is pushed 40 cm along +y (towards the middle of the counter, into B's view: ~18000
+      // pixels at B against ~4700 where it stood) meanwhile. Expected movable at B: the chair.
+      const sim::Scene moved = Moved(s0, ids.characteristic, Vector3d(0.0, 0.4, 0.0));
+      two(s0, std::nullopt, moved);
+      sc.expected = {ids.characteristic};
+      sc.shown = {{1, ids.characteristic}};
+      sc.description << "chair moved by (0.00, 0.40) m meanwhile";
+      break;
+    }
+    case MergeCase::kKI2: {
+      // The drawer is pulled out 25 cm (along -x, out of the counter) meanwhile. Expected movable at B: the drawer.
+      const sim::Scene moved = Moved(s0, ids.characteristic, Vector3d(-0.25, 0.0, 0.0));
+      two(s0, std::nullopt, moved);
+      sc.expected = {ids.characteristic};
+      sc.shown = {{1, ids.characteristic}};
+      sc.description << "drawer pulled out 25 cm meanwhile";
+      break;
+    }
+    case MergeCase::kSO: {
+      // The sofa is empty at A; meanwhile a person lies down on it (not moving while observed from B). Expected
+      // movable at B: the person.
+      two(Without(s0, ids.characteristic), std::nullopt, s0);
+      sc.expected = {ids.characteristic};
+      sc.shown = {{1, ids.characteristic}};
+      sc.description << "person lies down on the sofa meanwhile";
+      break;
+    }
+  }
+  return sc;
+}
+
+// Relative pose of camera j in camera k.
+Isometry3d Relative(const Isometry3d& X_k, const Isometry3d& X_j) { return X_k.inverse() * X_j; }
+
+PoseErrorPair PoseErrors(const Isometry3d& true_rel, const Isometry3d& stored_rel,
+                         const engine::MergeModelReport& report, const std::vector<Eigen::Vector3f>& points_j) {
+  PoseErrorPair e;
+  e.icp_converged = report.icp.converged;
+  e.icp_applied = report.icp_applied;
+  e.icp_fitness_m2 = report.icp.fitness_m2;
+  const Isometry3d corrected = report.icp_applied ? report.icp.correction * stored_rel : stored_rel;
+  const auto errors = [&](const Isometry3d& given, double& t, double& r, double& scene) {
+    t = (given.translation() - true_rel.translation()).norm();
+    r = RotationAngle(given.linear() * true_rel.linear().transpose());
+    double sum = 0.0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < points_j.size(); i += 37) {
+      const Vector3d p = points_j[i].cast<double>();
+      sum += (given * p - true_rel * p).norm();
+      ++n;
+    }
+    scene = n ? sum / n : 0.0;
+  };
+  errors(stored_rel, e.injected_translation_m, e.injected_rotation_rad, e.injected_scene_m);
+  errors(corrected, e.translation_m, e.rotation_rad, e.scene_m);
+  return e;
+}
+
+}  // namespace
+
+const char* MergeCaseName(MergeCase c) {
+  switch (c) {
+    case MergeCase::kN0: return "N0";
+    case MergeCase::kN1: return "N1";
+    case MergeCase::kM0: return "M0";
+    case MergeCase::kM1: return "M1";
+    case MergeCase::kM2: return "M2";
+    case MergeCase::kM3: return "M3";
+    case MergeCase::kM4: return "M4";
+    case MergeCase::kM5: return "M5";
+    case MergeCase::kM6: return "M6";
+    case MergeCase::kM7: return "M7";
+    case MergeCase::kM8: return "M8";
+    case MergeCase::kM9: return "M9";
+    case MergeCase::kDO: return "DO";
+    case MergeCase::kKI1: return "KI1";
+    case MergeCase::kKI2: return "KI2";
+    case MergeCase::kSO: return "SO";
+  }
+  return "?";
+}
+
+std::vector<MergeCase> AllMergeCases() {
+  return {MergeCase::kN0, MergeCase::kN1, MergeCase::kM0, MergeCase::kM1, MergeCase::kM2, MergeCase::kM3,
+          MergeCase::kM4, MergeCase::kM5, MergeCase::kM6, MergeCase::kM7, MergeCase::kM8, MergeCase::kM9,
+          MergeCase::kDO, MergeCase::kKI1, MergeCase::kKI2, MergeCase::kSO};
+}
+
+std::vector<sim::Setting> MergeCaseSettings(MergeCase c) {
+  switch (c) {
+    case MergeCase::kN0: return {sim::Setting::kSE};
+    case MergeCase::kN1:
+    case MergeCase::kM8:
+    case MergeCase::kM9: return {sim::Setting::kTA};
+    case MergeCase::kDO: return {sim::Setting::kDO};
+    case MergeCase::kKI1: return {sim::Setting::kKI1};
+    case MergeCase::kKI2: return {sim::Setting::kKI2};
+    case MergeCase::kSO: return {sim::Setting::kSO};
+    default: return {sim::Setting::kTA, sim::Setting::kSE, sim::Setting::kCA};
+  }
+}
+
+const char* MergeStrategyName(engine::MergeStrategy s) {
+  switch (s) {
+    case engine::MergeStrategy::kAlgorithm2: return "merge";
+    case engine::MergeStrategy::kNaive: return "naive";
+    case engine::MergeStrategy::kNaiveWithoutIcp: return "naive w/o ICP";
+  }
+  return "?";
+}
+
+int StrategyIndex(engine::MergeStrategy s) {
+  for (std::size_t i = 0; i < kMergeStrategies.size(); ++i) if (kMergeStrategies[i] == s) return static_cast<int>(i);
+  return 0;
+}
+
+MergeCaseResult RunMergeCase(sim::Setting setting, MergeCase c, std::uint64_t seed, const MergeCaseOptions& options) {
+  const PinholeIntrinsics K = sim::KinectIntrinsics();
+  const Script script = BuildScript(setting, c, seed, K);
+  const std::size_t n_phases = script.phases.size();
+
+  // The pose stored with each viewpoint's model: a fresh localisation error at every viewpoint.
+  Rng rng(Mix(seed, c, setting, 1));
+  std::vector<Isometry3d> X_stored;
+  for (const Phase& p : script.phases) {
+    X_stored.push_back(
+        WithPoseError(p.X_true, rng, options.pose_error_translation_m, options.pose_error_rotation_rad));
+  }
+
+  // Render every frame once; all strategies see the same frames.
+  std::vector<std::vector<std::vector<std::uint16_t>>> depth(n_phases);
+  std::vector<sim::Frame> last(n_phases);
+  for (std::size_t p = 0; p < n_phases; ++p) {
+    const Phase& ph = script.phases[p];
+    const int frames = p + 1 < n_phases ? options.frames_a : 1 + options.frames_b;
+    for (int i = 0; i < frames; ++i) {
+      const sim::Scene& scene = ph.second && i >= frames / 2 ? *ph.second : ph.first;
+      sim::Frame f = sim::Render(scene, K, ph.X_true, script.sensor, Mix(seed, c, setting, 1000 + 100 * p + i));
+      depth[p].push_back(std::move(f.depth_mm));
+      if (i + 1 == frames) {
+        f.depth_mm = depth[p].back();
+        last[p] = std::move(f);
+      }
+    }
+  }
+
+  MergeCaseResult result;
+  result.description = script.description.str();
+  const auto count = [&](int phase, int id) {
+    const sim::Frame& f = last[static_cast<std::size_t>(phase)];
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < f.object_id.size(); ++i) n += f.object_id[i] == id && f.depth_mm[i] != 0;
+    return n;
+  };
+  for (const auto& [phase, id] : script.hidden) {
+    // An object hidden at a viewpoint where it is absent (added later) is checked in the scene where it is present.
+    const sim::Scene& present = script.phases.back().Last();
+    const sim::Scene& at = script.phases[static_cast<std::size_t>(phase)].Last();
+    const bool in_scene = std::any_of(at.objects.begin(), at.objects.end(), [&](const auto& o) { return o.id == id; });
+    if (in_scene) {
+      result.hidden_pixels += count(phase, id);
+    } else {
+      const sim::Frame f = sim::Render(present, K, script.phases[static_cast<std::size_t>(phase)].X_true,
+                                       script.sensor, 1);
+      for (std::size_t i = 0; i < f.object_id.size(); ++i) result.hidden_pixels += f.object_id[i] == id && f.depth_mm[i];
+    }
+  }
+  for (const auto& [phase, id] : script.shown) result.shown_pixels += count(phase, id);
+
+  // Ground truth: the expected-movable objects' pixels with a measurement in the last frame.
+  const sim::Frame& final_frame = last.back();
+  std::vector<std::uint8_t> truth(final_frame.object_id.size(), 0);
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    for (int id : script.expected) truth[i] |= final_frame.object_id[i] == id && final_frame.depth_mm[i] != 0;
+    result.truth_pixels += truth[i];
+  }
+  const auto zone = testing::TransitionZone(truth, K.width, K.height, options.zone_radius_px);
+  // Truth pixels whose background (what the last viewpoint would see there without the expected-movable objects)
+  // no earlier viewpoint measured: beyond its range, outside its view, hidden or dropped there.
+  std::vector<std::uint8_t> unknown_background(truth.size(), 0);
+  if (result.truth_pixels > 0) {
+    sim::Scene empty = script.phases.back().Last();
+    for (int id : script.expected) empty = Without(std::move(empty), id);
+    const Isometry3d& X_last = script.phases.back().X_true;
+    const sim::Frame behind = sim::Render(empty, K, X_last, Noiseless(), 7);
+    sim::SensorModel exact = script.sensor;
+    exact.noise = false;
+    std::vector<std::pair<std::size_t, sim::Frame>> earlier;  // (phase, its view before and after a change)
+    for (std::size_t p = 0; p + 1 < n_phases; ++p) {
+      earlier.push_back({p, sim::Render(script.phases[p].first, K, script.phases[p].X_true, exact, 7)});
+      if (script.phases[p].second) {
+        earlier.push_back({p, sim::Render(*script.phases[p].second, K, script.phases[p].X_true, exact, 7)});
+      }
+    }
+    for (int v = 0; v < K.height; ++v) {
+      for (int u = 0; u < K.width; ++u) {
+        const std::size_t i = static_cast<std::size_t>(v) * K.width + u;
+        if (!truth[i] || zone[i]) continue;
+        const double z = behind.true_depth_m[i];
+        bool known = false;
+        if (z > 0.0) {
+          const Vector3d P = X_last * Vector3d((u - K.cx) / K.fx * z, (v - K.cy) / K.fy * z, z);
+          for (std::size_t e = 0; e < earlier.size() && !known; ++e) {
+            const auto& [p, f] = earlier[e];
+            const Vector3d q = script.phases[p].X_true.inverse() * P;
+            if (q.z() <= 0.05) continue;
+            const double pu = K.fx * q.x() / q.z() + K.cx, pv = K.fy * q.y() / q.z() + K.cy;
+            if (pu < 0 || pv < 0 || pu >= K.width || pv >= K.height) continue;
+            const std::size_t j = static_cast<std::size_t>(pv) * K.width + static_cast<std::size_t>(pu);
+            known = f.depth_mm[j] != 0 && std::abs(f.true_depth_m[j] - q.z()) < 0.02 + 0.01 * q.z();
+          }
+        }
+        unknown_background[i] = !known;
+        result.unknown_background_pixels += !known;
+      }
+    }
+  }
+
+  engine::SceneModelParams scene_params;
+  scene_params.beta = options.beta;
+  for (const engine::MergeStrategy strategy : options.strategies) {
+    StrategyResult& out = result.by_strategy[static_cast<std::size_t>(StrategyIndex(strategy))];
+    engine::MergeParams merge_params;
+    merge_params.strategy = strategy;
+    merge_params.beta = options.beta;
+    merge_params.frustum_far_m = script.frustum_far_m;
+    std::vector<engine::SceneModelState> models;
+    for (std::size_t p = 0; p < n_phases; ++p) {
+      engine::SceneModelState state = engine::NewSceneModel(K.width, K.height);
+      std::size_t first = 0;
+      if (p > 0) {
+        std::vector<engine::PriorModel> priors;
+        for (std::size_t j = 0; j < p; ++j) {
+          priors.push_back({static_cast<std::int64_t>(j + 1), K, X_stored[j], models[j].background_m});
+        }
+        const engine::MergeResult merged = engine::MergeAndApplyFirstFrame(
+            state, depth[p][0], 1000.0, {}, scene_params, K, X_stored[p], priors, merge_params);
+        out.timing.icp_ms += merged.timing.icp_ms;
+        out.timing.rasterise_ms += merged.timing.rasterise_ms;
+        out.timing.merge_ms += merged.timing.merge_ms;
+        for (std::size_t j = 0; j < merged.models.size(); ++j) {
+          out.reports.push_back(merged.models[j]);
+          if (strategy == engine::MergeStrategy::kNaiveWithoutIcp) continue;
+          const std::vector<Eigen::Vector3f> points_j =
+              engine::BackProject(models[j].background_m, K, Isometry3d::Identity());
+          out.icp.push_back(PoseErrors(Relative(script.phases[p].X_true, script.phases[j].X_true),
+                                       Relative(X_stored[p], X_stored[j]), merged.models[j], points_j));
+        }
+        first = 1;
+      }
+      for (std::size_t i = first; i < depth[p].size(); ++i) {
+        engine::ApplyFrame(state, depth[p][i], 1000.0, {}, scene_params);
+      }
+      models.push_back(std::move(state));
+    }
+    const engine::SceneModelState& final_model = models.back();
+    const auto cleaned = engine::CleanMovable(final_model.movable, K.width, K.height);
+    out.raw = testing::CountPixels(final_model.movable, truth, {});
+    out.cleaned = testing::CountPixels(cleaned, truth, {});
+    out.cleaned_zone = testing::CountPixels(cleaned, truth, zone);
+    for (std::size_t i = 0; i < cleaned.size(); ++i) out.unknown_background_detected += unknown_background[i] && cleaned[i];
+  }
+  return result;
+}
+
+}  // namespace anchordb::eval
