@@ -1,6 +1,7 @@
 // The engine's only PCL translation unit for registration (PCL headers are slow to compile; they stay here).
 #include "engine/scene/registration.h"
 
+#include <pcl/features/normal_3d.h>
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -56,18 +57,46 @@ IcpResult AlignIcp(const std::vector<Eigen::Vector3f>& source, const std::vector
     return n ? sum / n : std::numeric_limits<double>::infinity();
   };
   result.fitness_before_m2 = fitness(Eigen::Matrix4f::Identity());
-  pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
-  icp.setInputSource(src);
-  icp.setInputTarget(tgt);
-  icp.setMaxCorrespondenceDistance(params.max_correspondence_m);
-  icp.setMaximumIterations(params.max_iterations);
-  icp.setTransformationEpsilon(params.transformation_epsilon);
-  icp.setEuclideanFitnessEpsilon(params.fitness_epsilon);
-  pcl::PointCloud<pcl::PointXYZ> aligned;
-  icp.align(aligned);
-  result.converged = icp.hasConverged();
-  result.fitness_m2 = fitness(icp.getFinalTransformation());
-  result.correction.matrix() = icp.getFinalTransformation().cast<double>();
+  // Point-to-plane ICP: indoor scenes are mostly planes, along which point-to-point ICP slides. Two passes, the
+  // second with a tighter correspondence range, refine the correction.
+  const auto with_normals = [&](const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud) {
+    pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> estimation;
+    estimation.setInputCloud(cloud);
+    estimation.setSearchMethod(std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
+    estimation.setKSearch(12);
+    pcl::PointCloud<pcl::Normal> normals;
+    estimation.compute(normals);
+    auto out = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+    for (std::size_t i = 0; i < cloud->size(); ++i) {
+      if (!std::isfinite(normals[i].normal_x)) continue;
+      pcl::PointNormal p;
+      p.x = (*cloud)[i].x, p.y = (*cloud)[i].y, p.z = (*cloud)[i].z;
+      p.normal_x = normals[i].normal_x, p.normal_y = normals[i].normal_y, p.normal_z = normals[i].normal_z;
+      out->push_back(p);
+    }
+    return out;
+  };
+  const auto src_n = with_normals(src);
+  const auto tgt_n = with_normals(tgt);
+  Eigen::Matrix4f T = Eigen::Matrix4f::Identity();
+  bool converged = src_n->size() >= 10 && tgt_n->size() >= 10;
+  for (double range : {params.max_correspondence_m, params.max_correspondence_m / 3.0}) {
+    if (!converged) break;
+    pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> icp;
+    icp.setInputSource(src_n);
+    icp.setInputTarget(tgt_n);
+    icp.setMaxCorrespondenceDistance(range);
+    icp.setMaximumIterations(params.max_iterations);
+    icp.setTransformationEpsilon(params.transformation_epsilon);
+    icp.setEuclideanFitnessEpsilon(params.fitness_epsilon);
+    pcl::PointCloud<pcl::PointNormal> aligned;
+    icp.align(aligned, T);
+    converged = icp.hasConverged();
+    if (converged) T = icp.getFinalTransformation();
+  }
+  result.converged = converged;
+  result.fitness_m2 = fitness(T);
+  result.correction.matrix() = T.cast<double>();
   return result;
 }
 
