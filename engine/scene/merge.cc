@@ -192,11 +192,18 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
         // Premise 2: nothing stood in front of (or at) the point as seen from the earlier camera -- at the point's
         // depth it would have been seen as static. Checked on a small window of the earlier image: a pixel the sensor
         // dropped (grazing angle, shadow) is no evidence of free space, so a measured neighbour counts too.
-        const double needed_px = std::max<double>(params.occlusion_px, prior.K.fx * params.pose_tolerance_m / proj.z);
-        int bucket = 0;
-        while (bucket < 3 && kRadii[bucket] < needed_px) ++bucket;
-        const float nearest = nearest_within[bucket].at<float>(proj.v, proj.u);
-        if (nearest < proj.z + beta * proj.z) {  // something in front of, or at, the point's depth was seen
+        // The point's own line of sight decides where the earlier camera measured it; only where it measured
+        // nothing does the neighbourhood (a dropout band, or a pose error) decide.
+        const float own = prior.background_m[static_cast<std::size_t>(proj.v) * prior.K.width + proj.u];
+        bool occluded = own > 0.0f && own < proj.z + beta * proj.z;
+        if (own == 0.0f) {
+          const double tolerance = report.icp_applied ? params.pose_tolerance_after_icp_m : params.pose_tolerance_m;
+          const double needed_px = std::max<double>(params.occlusion_px, prior.K.fx * tolerance / proj.z);
+          int bucket = 0;
+          while (bucket < 3 && kRadii[bucket] < needed_px) ++bucket;
+          occluded = nearest_within[bucket].at<float>(proj.v, proj.u) < proj.z + beta * proj.z;
+        }
+        if (occluded) {  // something in front of, or at, the point's depth was seen
           ++report.rejected_occlusion;
           continue;
         }

@@ -36,14 +36,16 @@ struct MergeParams {
   int neighbourhood_px = 2;        // premise 3 looks at (2r+1)^2 pixels of the transformed model
   int occlusion_px = 4;            // premise 2 looks at (2r+1)^2 pixels of the earlier image at least: dropped-pixel
                                    // slivers (grazing faces, shadows) up to ~2r px wide are not taken for free space
-  // Premise 2 also allows for the remaining pose error between the views: its window grows to the pixels this
-  // distance spans at the point's depth (fx * tolerance / z), up to 32 px.
+  // Where the earlier pixel itself has no depth, premise 2 also allows for the remaining pose error between the
+  // views: its window grows to the pixels this distance spans at the point's depth (fx * tolerance / z), up to
+  // 32 px. The smaller tolerance applies when ICP corrected the pose.
   double pose_tolerance_m = 0.03;
+  double pose_tolerance_after_icp_m = 0.005;
   int closing_px = 3;              // kernel of the hole-closing after rasterisation
   // Rear projection (lines 9-11) trusts an unknown earlier pixel only inside a wide unknown area (beyond the
   // sensor's range): at least this many pixels from any measured pixel. Narrow unknown areas are dropouts
   // (projector shadow, grazing faces), not evidence of free space.
-  double rear_projection_min_unknown_px = 20.0;
+  double rear_projection_min_unknown_px = 14.0;
   IcpParams icp;
   // ICP corrections beyond these, or that do not improve the fit, are not trusted (the stored poses are kept).
   double max_icp_translation_m = 0.15;
