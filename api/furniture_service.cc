@@ -79,7 +79,12 @@ std::vector<g::FurnitureInput> ParseFurniture(const Json& j, const g::CategoryTa
     if (!piece.is_object()) BadArgument(f + " must be an object", f);
     json::RejectUnknownKeys(piece, {"id", "position", "extent", "yaw_rad", "categories"}, f);
     g::FurnitureInput in;
-    in.id = piece.contains("id") ? json::RequireId(piece, "id", f) : "v" + std::to_string(i + 1);
+    if (piece.contains("id")) {
+      in.id = json::RequireId(piece, "id", f);
+    } else {
+      in.id = std::to_string(i + 1);
+      in.id.insert(in.id.begin(), 'v');  // not "v" + ...: GCC 12 -O3 raises a false -Wrestrict on that form
+    }
     if (!ids.insert(in.id).second) throw Error(ErrorCode::kConflict, "furniture id '" + in.id + "' is given twice", f + ".id");
     in.position_m = AsPlanar(json::Require(piece, "position", f), f + ".position");
     if (piece.contains("extent")) {
