@@ -1,0 +1,261 @@
+#pragma once
+// Geometry of rendered objects for the merge evaluation: surface samples, footprints, visibility from a camera, and
+// the search for a free spot on a surface that is hidden from one viewpoint and shown to another.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <vector>
+
+#include "engine/scene/projection.h"
+#include "sim/renderer.h"
+
+namespace anchordb::eval::geometry {
+
+using Eigen::Isometry3d;
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+// ---- geometry of objects ---------------------------------------------------------------------------------------
+
+struct SurfaceSample {
+  Vector3d p, n;  // world point and outward normal
+};
+
+// Points on the surfaces of all primitives of an object (box faces on a 6 x 6 grid; cylinder sides and caps).
+inline std::vector<SurfaceSample> ObjectSamples(const sim::Scene& scene, int id) {
+  std::vector<SurfaceSample> out;
+  for (const auto& prim : scene.primitives) {
+    if (prim.object_id != id) continue;
+    const auto add = [&](const Vector3d& p_local, const Vector3d& n_local) {
+      out.push_back({prim.X_WorldPrim * p_local, prim.X_WorldPrim.linear() * n_local});
+    };
+    const Vector3d& s = prim.size_m;
+    if (prim.shape == sim::Shape::kBox) {
+      constexpr int kGrid = 6;
+      for (int a = 0; a < 3; ++a) {
+        const int b = (a + 1) % 3, c = (a + 2) % 3;
+        for (const double sign : {-1.0, 1.0}) {
+          for (int i = 0; i < kGrid; ++i) {
+            for (int j = 0; j < kGrid; ++j) {
+              Vector3d p = Vector3d::Zero(), n = Vector3d::Zero();
+              p[a] = sign * 0.5 * s[a];
+              p[b] = (-0.5 + (i + 0.5) / kGrid) * s[b];
+              p[c] = (-0.5 + (j + 0.5) / kGrid) * s[c];
+              n[a] = sign;
+              add(p, n);
+            }
+          }
+        }
+      }
+    } else {
+      const double r = s.x(), h = s.z();
+      for (int k = 0; k < 24; ++k) {
+        const double phi = k * 2.0 * std::numbers::pi / 24;
+        const Vector3d radial(std::cos(phi), std::sin(phi), 0.0);
+        for (int j = 0; j < 6; ++j) add(radial * r + Vector3d(0, 0, (-0.5 + (j + 0.5) / 6) * h), radial);
+        for (const double f : {0.35, 0.7}) {
+          add(radial * r * f + Vector3d(0, 0, 0.5 * h), Vector3d::UnitZ());
+          add(radial * r * f - Vector3d(0, 0, 0.5 * h), -Vector3d::UnitZ());
+        }
+      }
+      add(Vector3d(0, 0, 0.5 * h), Vector3d::UnitZ());
+      add(Vector3d(0, 0, -0.5 * h), -Vector3d::UnitZ());
+    }
+  }
+  if (out.empty()) throw std::invalid_argument("object not in scene");
+  return out;
+}
+
+// Horizontal footprint of an upright object, grown by `margin_m`, as world xy points.
+inline std::vector<Vector2d> Footprint(const sim::Scene& scene, int id, double margin_m) {
+  std::vector<Vector2d> out;
+  for (const auto& prim : scene.primitives) {
+    if (prim.object_id != id) continue;
+    const Vector3d& s = prim.size_m;
+    if (prim.shape == sim::Shape::kBox) {
+      constexpr int kGrid = 7;
+      for (int i = 0; i < kGrid; ++i) {
+        for (int j = 0; j < kGrid; ++j) {
+          const Vector3d p((-0.5 + i / (kGrid - 1.0)) * (s.x() + 2 * margin_m),
+                           (-0.5 + j / (kGrid - 1.0)) * (s.y() + 2 * margin_m), 0.0);
+          out.push_back((prim.X_WorldPrim * p).head<2>());
+        }
+      }
+    } else {
+      out.push_back(prim.X_WorldPrim.translation().head<2>());
+      for (const double f : {0.5, 1.0}) {
+        for (int k = 0; k < 16; ++k) {
+          const double phi = k * 2.0 * std::numbers::pi / 16;
+          const Vector3d p = Vector3d(std::cos(phi), std::sin(phi), 0.0) * f * (s.x() + margin_m);
+          out.push_back((prim.X_WorldPrim * p).head<2>());
+        }
+      }
+    }
+  }
+  return out;
+}
+
+inline Vector3d Centre(const sim::Scene& scene, int id) {
+  for (const auto& p : scene.primitives) if (p.object_id == id) return p.X_WorldPrim.translation();
+  throw std::invalid_argument("object not in scene");
+}
+
+// Top of an upright box-shaped object (its first primitive).
+inline Vector3d TopCentre(const sim::Scene& scene, int id) {
+  for (const auto& p : scene.primitives) {
+    if (p.object_id != id) continue;
+    return p.X_WorldPrim.translation() + Vector3d(0, 0, 0.5 * p.size_m.z());
+  }
+  throw std::invalid_argument("object not in scene");
+}
+
+inline double Height(const sim::Scene& scene, int id) {
+  for (const auto& p : scene.primitives) if (p.object_id == id) return p.size_m.z();
+  throw std::invalid_argument("object not in scene");
+}
+
+inline sim::SensorModel Noiseless() {
+  sim::SensorModel s;
+  s.noise = false;
+  s.shadow = false;
+  s.min_range_m = 0.0;
+  s.max_range_m = 100.0;
+  return s;
+}
+
+// A top-down view of the supporting surface (camera 0.3 m above it, below any board above it): tells whether a
+// footprint rests entirely on the bare surface (a static object's top at the surface's height, nothing on it).
+class SurfaceProbe {
+ public:
+  SurfaceProbe(const sim::Scene& scene, const Vector3d& surface_m) : surface_z_(surface_m.z()) {
+    const Vector3d eye = surface_m + Vector3d(0, 0, kHeight);
+    X_CW_ = sim::LookAt(eye, surface_m).inverse();
+    K_.width = K_.height = 2 * kHalf + 1;
+    K_.fx = K_.fy = kHalf * kHeight / kReach;
+    K_.cx = K_.cy = kHalf;
+    frame_ = sim::Render(scene, K_, X_CW_.inverse(), Noiseless(), 0);
+    for (const auto& o : scene.objects) static_[o.id] = o.kind == "static";
+  }
+  bool Free(const Vector2d& xy) const {
+    const Vector3d p = X_CW_ * Vector3d(xy.x(), xy.y(), surface_z_);
+    const double u = K_.fx * p.x() / p.z() + K_.cx, v = K_.fy * p.y() / p.z() + K_.cy;
+    if (u < 0 || v < 0 || u >= K_.width || v >= K_.height) return false;
+    const std::size_t i = static_cast<std::size_t>(v) * K_.width + static_cast<std::size_t>(u);
+    const auto it = static_.find(frame_.object_id[i]);
+    if (it == static_.end() || !it->second) return false;
+    return std::abs(frame_.true_depth_m[i] - kHeight) < 0.004;
+  }
+
+ private:
+  static constexpr int kHalf = 120;
+  static constexpr double kHeight = 0.3, kReach = 0.6;  // sees +-0.6 m around the surface point
+  double surface_z_;
+  Isometry3d X_CW_;
+  PinholeIntrinsics K_;
+  sim::Frame frame_;
+  std::map<int, bool> static_;
+};
+
+// The noiseless depth of a scene from one camera, to test where an object placed into it would be seen.
+struct View {
+  Isometry3d X_WC;
+  Isometry3d X_CW;
+  PinholeIntrinsics K;
+  std::vector<float> depth;
+  double max_range_m = 100.0;
+};
+
+View MakeView(const sim::Scene& scene_without, const Isometry3d& X_WC, const PinholeIntrinsics& K,
+              double max_range_m = 100.0) {
+  View v{X_WC, X_WC.inverse(), K, sim::Render(scene_without, K, X_WC, Noiseless(), 0).true_depth_m, max_range_m};
+  return v;
+}
+
+struct Visibility {
+  int facing = 0, visible = 0, hidden = 0;
+  double Fraction() const { return facing ? static_cast<double>(visible) / facing : 0.0; }
+  // Every surface point that faces the camera is inside the image and clearly (2 cm) behind something.
+  bool FullyOccluded() const { return facing > 0 && hidden == facing; }
+};
+
+inline Visibility See(const std::vector<SurfaceSample>& samples, const Vector3d& delta, const View& view) {
+  Visibility vis;
+  const Vector3d eye = view.X_WC.translation();
+  for (const auto& s : samples) {
+    const Vector3d p = s.p + delta;
+    if (s.n.dot(eye - p) <= 1e-9) continue;
+    ++vis.facing;
+    const Vector3d c = view.X_CW * p;
+    if (c.z() <= 0.05) continue;
+    const double u = view.K.fx * c.x() / c.z() + view.K.cx, v = view.K.fy * c.y() / c.z() + view.K.cy;
+    if (u < 0 || v < 0 || u >= view.K.width || v >= view.K.height) continue;
+    const float d = view.depth[static_cast<std::size_t>(v) * view.K.width + static_cast<std::size_t>(u)];
+    if ((d == 0.0f || c.z() < d + 0.01) && c.z() <= view.max_range_m) {
+      ++vis.visible;
+    } else if (d > 0.0f && c.z() > d + 0.02) {
+      ++vis.hidden;
+    }
+  }
+  return vis;
+}
+
+// Where to put an object on the supporting surface.
+struct SpotQuery {
+  struct Camera {
+    const View* view;
+    bool hidden;          // true: fully occluded there; false: at least `min_visible` of its facing surface seen
+    double min_visible = 0.9;
+  };
+  std::vector<Camera> cameras;
+  double min_move_m = 0.0, max_move_m = 0.45, preferred_move_m = 0.2;
+  double margin_m = 0.015;  // free space kept around the footprint
+  bool prefer_visible = false;  // choose the place seen best by the `hidden == false` cameras, then by distance
+  std::optional<Vector2d> target;  // if set: the place nearest to this point (instead of preferred_move_m)
+};
+
+// Searches a 1 cm grid around the surface point for the object's centre: the grown footprint must lie on the bare
+// surface of `probe_scene` (which still contains the object at its old place when it is moved, so the new place
+// never overlaps the old one), and every camera's requirement must hold. Returns the translation to apply.
+inline std::optional<Vector3d> FindSpot(const sim::Scene& with_object, int id, const sim::Scene& probe_scene,
+                                 const Vector3d& surface_m, const SpotQuery& q) {
+  const SurfaceProbe probe(probe_scene, surface_m);
+  const std::vector<SurfaceSample> samples = ObjectSamples(with_object, id);
+  const std::vector<Vector2d> footprint = Footprint(with_object, id, q.margin_m);
+  const Vector3d origin = Centre(with_object, id);
+  double best_cost = std::numeric_limits<double>::infinity();
+  std::optional<Vector3d> best;
+  for (int i = -60; i <= 60; ++i) {
+    for (int j = -60; j <= 60; ++j) {
+      const Vector3d delta(surface_m.x() + 0.01 * i - origin.x(), surface_m.y() + 0.01 * j - origin.y(), 0.0);
+      const double move = delta.norm();
+      if (move < q.min_move_m || move > q.max_move_m) continue;
+      bool free = true;
+      for (const auto& f : footprint) free = free && probe.Free(f + delta.head<2>());
+      if (!free) continue;
+      bool ok = true;
+      double seen = 1.0;
+      for (const auto& cam : q.cameras) {
+        const Visibility vis = See(samples, delta, *cam.view);
+        if (cam.hidden) {
+          ok = ok && vis.FullyOccluded();
+        } else {
+          ok = ok && vis.Fraction() >= cam.min_visible;
+          seen = std::min(seen, vis.Fraction());
+        }
+        if (!ok) break;
+      }
+      if (!ok) continue;
+      const double distance = q.target ? (origin.head<2>() + delta.head<2>() - *q.target).norm()
+                                       : std::abs(move - q.preferred_move_m);
+      const double cost = (q.prefer_visible ? -seen : 0.0) + 0.01 * distance;
+      if (cost < best_cost) best_cost = cost, best = delta;
+    }
+  }
+  return best;
+}
+
+}  // namespace anchordb::eval::geometry
