@@ -13,6 +13,7 @@
 #include "engine/scene/projection.h"
 #include "engine/scene/scene_model.h"
 #include "tests/eval/object_geometry.h"
+#include "tests/eval/pose_error.h"
 #include "sim/renderer.h"
 
 namespace anchordb::eval {
@@ -24,53 +25,8 @@ using Eigen::Vector3d;
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-Isometry3d Translation(const Vector3d& t) {
-  Isometry3d X = Isometry3d::Identity();
-  X.translation() = t;
-  return X;
-}
-
-// Deterministic, portable random numbers (std distributions differ between standard libraries).
-class Rng {
- public:
-  explicit Rng(std::uint64_t seed) : rng_(seed) {}
-  double Uniform(double lo, double hi) {
-    const double unit = static_cast<double>(rng_() >> 11) * (1.0 / 9007199254740992.0);
-    return lo + (hi - lo) * unit;
-  }
-  Vector3d UnitVector() {
-    const double z = Uniform(-1.0, 1.0), phi = Uniform(0.0, 2.0 * std::numbers::pi);
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    return {r * std::cos(phi), r * std::sin(phi), z};
-  }
-
- private:
-  std::mt19937_64 rng_;
-};
-
-std::uint64_t Mix(std::uint64_t seed, MergeCase c, sim::Setting s, std::uint64_t salt) {
-  std::uint64_t x = seed * 0x9E3779B97F4A7C15ULL ^ (static_cast<std::uint64_t>(c) + 1) * 0xD1B54A32D192ED03ULL ^
-                    (static_cast<std::uint64_t>(s) + 1) * 0x8CB92BA72F3D8DD7ULL ^ salt * 0xC2B2AE3D27D4EB4FULL;
-  x ^= x >> 31;
-  return x * 0x94D049BB133111EBULL + salt;
-}
-
-// The localisation error of one viewpoint: the stored camera pose is the true one moved by a translation of
-// uniform length in [0, max_t] in a random direction and turned about its optical centre by a uniform angle in
-// [0, max_r] about a random axis.
-Isometry3d WithPoseError(const Isometry3d& X_true, Rng& rng, double max_t, double max_r) {
-  const Vector3d t = rng.UnitVector() * rng.Uniform(0.0, max_t);
-  const Vector3d axis = rng.UnitVector();
-  const double angle = rng.Uniform(0.0, max_r);
-  Isometry3d X = X_true;
-  X.linear() = Eigen::AngleAxisd(angle, axis).toRotationMatrix() * X_true.linear();
-  X.translation() = X_true.translation() + t;
-  return X;
-}
-
-double RotationAngle(const Eigen::Matrix3d& R) { return Eigen::AngleAxisd(R).angle(); }
-
-using namespace geometry;  // NOLINT: the object geometry is this file's vocabulary
+using namespace geometry;    // NOLINT: the object geometry and the seeded pose errors are this file's vocabulary
+using namespace pose_error;  // NOLINT
 
 // ---- the cases -----------------------------------------------------------------------------------------------
 
@@ -104,98 +60,6 @@ Ids IdsOf(const sim::SettingScene& st) {
   ids.characteristic = m.size() > 3 ? m.front() : 0;
   ids.tall = st.tall_object_id;
   return ids;
-}
-
-std::string Fmt(const Vector3d& d) {
-  std::ostringstream s;
-  s.precision(2);
-  s << std::fixed << "(" << d.x() << ", " << d.y() << ")";
-  return s.str();
-}
-
-[[noreturn]] void NoSpot(MergeCase c, sim::Setting s, const char* what) {
-  throw std::runtime_error(std::string("merge case ") + MergeCaseName(c) + " in " + sim::SettingName(s) +
-                           ": no place found for " + what);
-}
-
-sim::Scene Without(sim::Scene scene, int id) {
-  const bool present =
-      std::any_of(scene.objects.begin(), scene.objects.end(), [&](const sim::Object& o) { return o.id == id; });
-  if (present) sim::RemoveObject(scene, id);
-  return scene;
-}
-
-sim::Scene Moved(sim::Scene scene, int id, const Vector3d& delta) {
-  sim::MoveObject(scene, id, Translation(delta));
-  return scene;
-}
-
-// A spot visible from both viewpoints (at least 90 % of the object's facing surface seen from each) for an object
-// that moves 12-35 cm (preferably 20 cm) from where it stands in `scene`: far enough that its new volume does not
-// overlap its old one (no A1-like effect). Where the surface is too crowded for that (the shelf board with some
-// seeds), 80 % and up to 45 cm, then also only 0.5 cm instead of 1.5 cm of free space around it.
-std::optional<Vector3d> VisibleMove(const sim::Scene& scene, int id, const Vector3d& surface, const Isometry3d& XA,
-                                    const Isometry3d& XB, const PinholeIntrinsics& K) {
-  const sim::Scene without = Without(scene, id);
-  const View a = MakeView(without, XA, K), b = MakeView(without, XB, K);
-  struct Try {
-    double visible, max_move, margin;
-  };
-  for (const Try t : {Try{0.9, 0.35, 0.015}, Try{0.8, 0.45, 0.015}, Try{0.8, 0.45, 0.005}}) {
-    SpotQuery q;
-    q.cameras = {{&a, false, t.visible}, {&b, false, t.visible}};
-    q.min_move_m = 0.12;
-    q.max_move_m = t.max_move;
-    q.margin_m = t.margin;
-    q.preferred_move_m = 0.2;
-    if (auto d = FindSpot(scene, id, scene, surface, q)) return d;
-  }
-  return std::nullopt;
-}
-
-// A spot occluded from `X_hidden` (every point of it behind something) and seen as well as possible from the
-// `X_seen` cameras (at least 60 % of its facing surface), anywhere on the surface; the object is absent from
-// `probe_scene` when it is added, present at its old place when it is moved.
-std::optional<Vector3d> HiddenSpot(const sim::Scene& with_object, int id, const sim::Scene& probe_scene,
-                                   const Vector3d& surface, const Isometry3d& X_hidden,
-                                   const std::vector<Isometry3d>& X_seen, const PinholeIntrinsics& K,
-                                   double min_seen = 0.6) {
-  const sim::Scene without = Without(probe_scene, id);
-  const View h = MakeView(without, X_hidden, K);
-  std::vector<View> seen;
-  for (const auto& X : X_seen) seen.push_back(MakeView(without, X, K));
-  SpotQuery q;
-  q.cameras = {{&h, true}};
-  for (const auto& v : seen) q.cameras.push_back({&v, false, min_seen});
-  q.min_move_m = 0.0;
-  q.max_move_m = 0.85;
-  q.preferred_move_m = 0.0;
-  q.prefer_visible = true;
-  return FindSpot(with_object, id, probe_scene, surface, q);
-}
-
-// Sets the box up as an occluder for `X_hide`: turned so that its wide side (15 cm) faces that camera and put on
-// the bare place nearest to 15 cm in front of the surface point (towards the camera), so that there is bare
-// surface behind it, in its shadow, that another viewpoint 45 cm away can see into.
-std::optional<sim::Scene> WithOccluder(const sim::Scene& scene, int box, const Vector3d& surface,
-                                       const Isometry3d& X_hide) {
-  Vector2d towards = (surface - X_hide.translation()).head<2>();
-  towards.normalize();
-  const Eigen::Matrix3d R = [&] {
-    for (const auto& p : scene.primitives) if (p.object_id == box) return p.X_WorldPrim.linear();
-    throw std::invalid_argument("object not in scene");
-  }();
-  // The box's local x (its 10 cm side) along the line of sight.
-  const double yaw = std::atan2(towards.y(), towards.x()) - std::atan2(R(1, 0), R(0, 0));
-  const Vector3d c = Centre(scene, box);
-  sim::Scene turned = scene;
-  sim::MoveObject(turned, box, Translation(c) * Eigen::AngleAxisd(yaw, Vector3d::UnitZ()) * Translation(-c));
-  SpotQuery q;
-  q.max_move_m = 1.0;
-  q.target = surface.head<2>() - 0.15 * towards;
-  const auto d = FindSpot(turned, box, Without(scene, box), surface, q);
-  if (!d) return std::nullopt;
-  return Moved(turned, box, *d);
 }
 
 Script BuildScript(sim::Setting setting_id, MergeCase c, std::uint64_t seed, const PinholeIntrinsics& K) {

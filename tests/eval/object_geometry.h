@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <sstream>
+#include <string>
 #include <stdexcept>
 #include <vector>
 
@@ -18,6 +20,12 @@ namespace anchordb::eval::geometry {
 using Eigen::Isometry3d;
 using Eigen::Vector2d;
 using Eigen::Vector3d;
+
+inline Isometry3d Translation(const Vector3d& t) {
+  Isometry3d X = Isometry3d::Identity();
+  X.translation() = t;
+  return X;
+}
 
 // ---- geometry of objects ---------------------------------------------------------------------------------------
 
@@ -256,6 +264,98 @@ inline std::optional<Vector3d> FindSpot(const sim::Scene& with_object, int id, c
     }
   }
   return best;
+}
+
+inline std::string Fmt(const Vector3d& d) {
+  std::ostringstream s;
+  s.precision(2);
+  s << std::fixed << "(" << d.x() << ", " << d.y() << ")";
+  return s.str();
+}
+
+[[noreturn]] void NoSpot(MergeCase c, sim::Setting s, const char* what) {
+  throw std::runtime_error(std::string("merge case ") + MergeCaseName(c) + " in " + sim::SettingName(s) +
+                           ": no place found for " + what);
+}
+
+inline sim::Scene Without(sim::Scene scene, int id) {
+  const bool present =
+      std::any_of(scene.objects.begin(), scene.objects.end(), [&](const sim::Object& o) { return o.id == id; });
+  if (present) sim::RemoveObject(scene, id);
+  return scene;
+}
+
+inline sim::Scene Moved(sim::Scene scene, int id, const Vector3d& delta) {
+  sim::MoveObject(scene, id, Translation(delta));
+  return scene;
+}
+
+// A spot visible from both viewpoints (at least 90 % of the object's facing surface seen from each) for an object
+// that moves 12-35 cm (preferably 20 cm) from where it stands in `scene`: far enough that its new volume does not
+// overlap its old one (no A1-like effect). Where the surface is too crowded for that (the shelf board with some
+// seeds), 80 % and up to 45 cm, then also only 0.5 cm instead of 1.5 cm of free space around it.
+inline std::optional<Vector3d> VisibleMove(const sim::Scene& scene, int id, const Vector3d& surface, const Isometry3d& XA,
+                                    const Isometry3d& XB, const PinholeIntrinsics& K) {
+  const sim::Scene without = Without(scene, id);
+  const View a = MakeView(without, XA, K), b = MakeView(without, XB, K);
+  struct Try {
+    double visible, max_move, margin;
+  };
+  for (const Try t : {Try{0.9, 0.35, 0.015}, Try{0.8, 0.45, 0.015}, Try{0.8, 0.45, 0.005}}) {
+    SpotQuery q;
+    q.cameras = {{&a, false, t.visible}, {&b, false, t.visible}};
+    q.min_move_m = 0.12;
+    q.max_move_m = t.max_move;
+    q.margin_m = t.margin;
+    q.preferred_move_m = 0.2;
+    if (auto d = FindSpot(scene, id, scene, surface, q)) return d;
+  }
+  return std::nullopt;
+}
+
+// A spot occluded from `X_hidden` (every point of it behind something) and seen as well as possible from the
+// `X_seen` cameras (at least 60 % of its facing surface), anywhere on the surface; the object is absent from
+// `probe_scene` when it is added, present at its old place when it is moved.
+inline std::optional<Vector3d> HiddenSpot(const sim::Scene& with_object, int id, const sim::Scene& probe_scene,
+                                   const Vector3d& surface, const Isometry3d& X_hidden,
+                                   const std::vector<Isometry3d>& X_seen, const PinholeIntrinsics& K,
+                                   double min_seen = 0.6) {
+  const sim::Scene without = Without(probe_scene, id);
+  const View h = MakeView(without, X_hidden, K);
+  std::vector<View> seen;
+  for (const auto& X : X_seen) seen.push_back(MakeView(without, X, K));
+  SpotQuery q;
+  q.cameras = {{&h, true}};
+  for (const auto& v : seen) q.cameras.push_back({&v, false, min_seen});
+  q.min_move_m = 0.0;
+  q.max_move_m = 0.85;
+  q.preferred_move_m = 0.0;
+  q.prefer_visible = true;
+  return FindSpot(with_object, id, probe_scene, surface, q);
+}
+
+// Sets the box up as an occluder for `X_hide`: turned so that its wide side (15 cm) faces that camera and put on
+// the bare place nearest to 15 cm in front of the surface point (towards the camera), so that there is bare
+// surface behind it, in its shadow, that another viewpoint 45 cm away can see into.
+inline std::optional<sim::Scene> WithOccluder(const sim::Scene& scene, int box, const Vector3d& surface,
+                                       const Isometry3d& X_hide) {
+  Vector2d towards = (surface - X_hide.translation()).head<2>();
+  towards.normalize();
+  const Eigen::Matrix3d R = [&] {
+    for (const auto& p : scene.primitives) if (p.object_id == box) return p.X_WorldPrim.linear();
+    throw std::invalid_argument("object not in scene");
+  }();
+  // The box's local x (its 10 cm side) along the line of sight.
+  const double yaw = std::atan2(towards.y(), towards.x()) - std::atan2(R(1, 0), R(0, 0));
+  const Vector3d c = Centre(scene, box);
+  sim::Scene turned = scene;
+  sim::MoveObject(turned, box, Translation(c) * Eigen::AngleAxisd(yaw, Vector3d::UnitZ()) * Translation(-c));
+  SpotQuery q;
+  q.max_move_m = 1.0;
+  q.target = surface.head<2>() - 0.15 * towards;
+  const auto d = FindSpot(turned, box, Without(scene, box), surface, q);
+  if (!d) return std::nullopt;
+  return Moved(turned, box, *d);
 }
 
 }  // namespace anchordb::eval::geometry

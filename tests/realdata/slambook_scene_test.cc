@@ -69,40 +69,77 @@ double MedianNearestNeighbour(const std::vector<Eigen::Vector3f>& reference, con
   return d[d.size() / 2];
 }
 
-TEST(SlambookRealData, StaticLayersOfViews4And5AgreeInTheMapFrame) {
-  testing::TempDir dir;
-  storage::StoreOptions so;
-  so.path = dir.File("real.sqlite");
-  storage::Store store(so);
-  api::GridService grid(store, {}, {});
-  grid.CreateMap("room", "slambook ch5 room");
-  api::SceneService scenes(store, {});
+// One real view: its pose (T_world_camera from pose.txt) and its depth as raw little-endian bytes.
+struct RealView {
+  Pose3 pose;
+  std::string raw_depth;
+};
+
+std::vector<RealView> ReadViews() {
   std::ifstream poses(DataDir() + "/pose.txt");
-  ASSERT_TRUE(poses) << "missing " << DataDir() << "/pose.txt";
-  const PinholeIntrinsics K{640, 480, 518.0, 519.0, 325.5, 253.5};
-  std::vector<std::int64_t> ids;
-  std::vector<Eigen::Isometry3d> X_MapCamera;
+  if (!poses) throw std::runtime_error("missing " + DataDir() + "/pose.txt");
+  std::vector<RealView> views;
   for (int view = 1; view <= 5; ++view) {
     double t[3], q[4];
     poses >> t[0] >> t[1] >> t[2] >> q[0] >> q[1] >> q[2] >> q[3];
-    const api::Json body = {{"camera", {{"width", 640}, {"height", 480}, {"fx", K.fx}, {"fy", K.fy}, {"cx", K.cx}, {"cy", K.cy}}},
-                            {"pose", {{"position", {t[0], t[1], t[2]}}, {"orientation", {q[0], q[1], q[2], q[3]}}}}};
-    const api::Json opened = scenes.Open("room", body);
-    ids.push_back(opened["id"].get<std::int64_t>());
-    Pose3 pose;
-    pose.position_m = {t[0], t[1], t[2]};
-    pose.orientation = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized();
-    X_MapCamera.push_back(engine::ToIsometry(pose));
+    RealView v;
+    v.pose.position_m = {t[0], t[1], t[2]};
+    v.pose.orientation = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized();
     int w = 0, h = 0;
     const auto depth = ReadPgm16(DataDir() + "/depth/" + std::to_string(view) + ".pgm", w, h);
-    ASSERT_EQ(w, 640);
-    const std::string raw(reinterpret_cast<const char*>(depth.data()), depth.size() * 2);
+    if (w != 640 || h != 480) throw std::runtime_error("view " + std::to_string(view) + " is not 640x480");
+    v.raw_depth.assign(reinterpret_cast<const char*>(depth.data()), depth.size() * 2);
+    views.push_back(std::move(v));
+  }
+  return views;
+}
+
+// A scene service on a fresh SQLite file with the map "room".
+class RealRoom {
+ public:
+  explicit RealRoom(const std::string& file) : store_(Options(dir_.File(file))), grid_(store_, {}, {}), scenes(store_, {}) {
+    grid_.CreateMap("room", "slambook ch5 room");
+  }
+  // Opens a scene model at the view's pose (fx 518, fy 519) and feeds it the view's depth three times.
+  std::int64_t Observe(const RealView& v) {
+    const auto& p = v.pose.position_m;
+    const auto& q = v.pose.orientation;
+    const api::Json body = {{"camera", {{"width", 640}, {"height", 480}, {"fx", kK.fx}, {"fy", kK.fy}, {"cx", kK.cx}, {"cy", kK.cy}}},
+                            {"pose", {{"position", {p.x(), p.y(), p.z()}}, {"orientation", {q.x(), q.y(), q.z(), q.w()}}}}};
+    const std::int64_t id = scenes.Open("room", body)["id"].get<std::int64_t>();
     for (int frame = 0; frame < 3; ++frame) {
       api::FrameInput in;
-      in.body = raw;
+      in.body = v.raw_depth;
       in.png = false;
-      scenes.AddFrame("room", ids.back(), in);
+      scenes.AddFrame("room", id, in);
     }
+    return id;
+  }
+  static constexpr PinholeIntrinsics kK{640, 480, 518.0, 519.0, 325.5, 253.5};
+
+ private:
+  static storage::StoreOptions Options(const std::string& path) {
+    storage::StoreOptions so;
+    so.path = path;
+    return so;
+  }
+  testing::TempDir dir_;
+  storage::Store store_;
+  api::GridService grid_;
+
+ public:
+  api::SceneService scenes;
+};
+
+TEST(SlambookRealData, StaticLayersOfViews4And5AgreeInTheMapFrame) {
+  RealRoom room("real.sqlite");
+  api::SceneService& scenes = room.scenes;
+  const PinholeIntrinsics K = RealRoom::kK;
+  std::vector<std::int64_t> ids;
+  std::vector<Eigen::Isometry3d> X_MapCamera;
+  for (const RealView& v : ReadViews()) {
+    ids.push_back(room.Observe(v));
+    X_MapCamera.push_back(engine::ToIsometry(v.pose));
     scenes.Close("room", ids.back());
   }
   // Read the static layers back (as a client would: raw f32 metres) and back-project them.
@@ -131,32 +168,13 @@ TEST(SlambookRealData, StaticLayersOfViews4And5AgreeInTheMapFrame) {
 // Issue 4, acceptance 4: nothing moved between the five real views, so merging each into the next must not invent
 // movable structure: after cleaning, under 2 % of the pixels are movable in every merged model.
 TEST(SlambookRealData, MergedRealViewsHaveFewMovablePixels) {
-  testing::TempDir dir;
-  storage::StoreOptions so;
-  so.path = dir.File("merge.sqlite");
-  storage::Store store(so);
-  api::GridService grid(store, {}, {});
-  grid.CreateMap("room", "slambook ch5 room");
-  api::SceneService scenes(store, {});
-  std::ifstream poses(DataDir() + "/pose.txt");
-  ASSERT_TRUE(poses);
-  const PinholeIntrinsics K{640, 480, 518.0, 519.0, 325.5, 253.5};
+  RealRoom room("merge.sqlite");
+  api::SceneService& scenes = room.scenes;
   int merged_models = 0;
-  for (int view = 1; view <= 5; ++view) {
-    double t[3], q[4];
-    poses >> t[0] >> t[1] >> t[2] >> q[0] >> q[1] >> q[2] >> q[3];
-    const api::Json body = {{"camera", {{"width", 640}, {"height", 480}, {"fx", K.fx}, {"fy", K.fy}, {"cx", K.cx}, {"cy", K.cy}}},
-                            {"pose", {{"position", {t[0], t[1], t[2]}}, {"orientation", {q[0], q[1], q[2], q[3]}}}}};
-    const std::int64_t id = scenes.Open("room", body)["id"].get<std::int64_t>();
-    int w = 0, h = 0;
-    const auto depth = ReadPgm16(DataDir() + "/depth/" + std::to_string(view) + ".pgm", w, h);
-    const std::string raw(reinterpret_cast<const char*>(depth.data()), depth.size() * 2);
-    for (int frame = 0; frame < 3; ++frame) {
-      api::FrameInput in;
-      in.body = raw;
-      in.png = false;
-      scenes.AddFrame("room", id, in);
-    }
+  int view = 0;
+  for (const RealView& v : ReadViews()) {
+    ++view;
+    const std::int64_t id = room.Observe(v);
     const api::Json scene = scenes.Get("room", id);
     const api::Json movable = api::Json::parse(scenes.Layer("room", id, "movable", "json", true).body);
     const double fraction = movable["fraction"].get<double>();
