@@ -1,5 +1,7 @@
 #include "api/furniture_service.h"
 
+#include "engine/events/placement.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -453,6 +455,41 @@ Json FurnitureService::Describe(const std::string& map, std::int64_t id, const J
                     {"ancestor_ranks", best.lineage_ranks}, {"revised", revised}}},
           {"groundings", sequence},
           {"hypotheses", graph->set.ranked.size()}};
+}
+
+std::optional<Json> FurnitureService::Place(const std::string& map, const Eigen::Vector3d& p_M) {
+  const auto newest = store_.Read([&](storage::Connection& c) { return storage::ListFurnitureGraphs(c, map, 0, 1); });
+  if (newest.empty()) return std::nullopt;
+  auto graph = Acquire(map, newest.front().id);
+  std::lock_guard<std::mutex> lock(graph->mutex);
+  const g::Hypothesis& best = graph->set.ranked.front();
+  const int k = graph->graph.category_count;
+  std::vector<engine::FurniturePiece> pieces;
+  std::vector<int> categories;
+  for (std::size_t v = 0; v < graph->graph.vertices.size(); ++v) {
+    const g::Vertex& vertex = graph->graph.vertices[v];
+    categories.push_back(Argmax(&best.state.category[v * static_cast<std::size_t>(k)], k));
+    pieces.push_back({vertex.id, graph->knowledge.categories[categories.back()].name, vertex.position_m, vertex.extent_m,
+                      vertex.yaw_rad});
+  }
+  const engine::Placement placed = engine::PlaceObject(p_M, pieces, graph->viewpoint);
+  const auto piece = static_cast<std::size_t>(placed.piece);
+  Json out = {{"graph", graph->record.id}, {"furniture", pieces[piece].id},
+              {"category", graph->knowledge.categories[categories[piece]].id}, {"name", pieces[piece].name},
+              {"gap_m", placed.gap_m}};
+  if (placed.on) {
+    out["relation"] = "on";
+    out["frame"] = nullptr;
+    out["phrase"] = "on the " + pieces[piece].name;
+    return out;
+  }
+  const g::Distribution4 relative = g::RelationFromOffset(
+      graph->viewpoint.ToViewer(p_M.head<2>() - pieces[piece].position_m), graph->config.relation_sharpness);
+  const g::WordChoice choice = g::PreferredWord(graph->knowledge, best, k, placed.piece, relative);
+  out["relation"] = g::RelationId(choice.word);
+  out["frame"] = g::FrameId(choice.frame);
+  out["phrase"] = std::string(g::RelationPhrase(choice.word)) + " the " + pieces[piece].name;
+  return out;
 }
 
 Json FurnitureService::Hypotheses(const std::string& map, std::int64_t id, int limit) {

@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include "api/grid_service.h"
@@ -40,6 +41,11 @@ class FurnitureService {
   Json Hypotheses(const std::string& map, std::int64_t id, int limit);
   Json Reset(const std::string& map, std::int64_t id);
   Json Produce(const std::string& map, std::int64_t id, const Json& body);   // speech production (:describe)
+
+  // Where a thing at p_M stands relative to the furniture of the map's newest graph, in the words the grounding
+  // model of that graph's listener prefers (SPEC §4.4): {graph, furniture, category, name, relation, frame, gap_m,
+  // phrase}. Nullopt when the map has no furniture graph.
+  std::optional<Json> Place(const std::string& map, const Eigen::Vector3d& p_M);
 
   // The knowledge new graphs are created with, as a document.
   const Json& knowledge() const { return knowledge_doc_; }

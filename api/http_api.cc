@@ -59,11 +59,13 @@ const std::string& PathParams::operator[](const std::string& name) const {
   throw Error(ErrorCode::kInternal, "route has no path parameter '" + name + "'");
 }
 
-HttpApi::HttpApi(GridService& grid, SceneService& scenes, FurnitureService& furniture, HttpOptions options)
-    : service_(grid), scenes_(scenes), furniture_(furniture), options_(std::move(options)) {
+HttpApi::HttpApi(GridService& grid, SceneService& scenes, FurnitureService& furniture, EventService& events,
+                 HttpOptions options)
+    : service_(grid), scenes_(scenes), furniture_(furniture), events_(events), options_(std::move(options)) {
   AddRoutes();
   AddSceneRoutes();
   AddFurnitureRoutes();
+  AddEventRoutes();
 }
 
 void HttpApi::Add(std::string method, std::string pattern, Role role, std::string summary, Handler handler) {

@@ -3,6 +3,7 @@
 // server with the conventions of SPEC §5 applied to every route in one place: JSON errors, auth by Bearer token
 // and role, request ids in the log and in X-Request-Id, metrics per route, one catch-all per request.
 // Eigen must come before httplib.h: httplib pulls in <resolv.h>, whose `_res` macro breaks Eigen's headers.
+#include "api/event_service.h"
 #include "api/furniture_service.h"
 #include "api/grid_service.h"
 #include "api/metrics.h"
@@ -64,7 +65,7 @@ struct HttpOptions {
 
 class HttpApi {
  public:
-  HttpApi(GridService& grid, SceneService& scenes, FurnitureService& furniture, HttpOptions options);
+  HttpApi(GridService& grid, SceneService& scenes, FurnitureService& furniture, EventService& events, HttpOptions options);
 
   const std::vector<Route>& routes() const { return routes_; }
   Metrics& metrics() { return metrics_; }
@@ -78,6 +79,7 @@ class HttpApi {
   void AddRoutes();
   void AddSceneRoutes();
   void AddFurnitureRoutes();
+  void AddEventRoutes();
   void Add(std::string method, std::string pattern, Role role, std::string summary, Handler handler);
   void Dispatch(const Route& route, const std::vector<std::string>& names, const httplib::Request& req,
                 httplib::Response& res);
@@ -85,6 +87,7 @@ class HttpApi {
   GridService& service_;
   SceneService& scenes_;
   FurnitureService& furniture_;
+  EventService& events_;
   HttpOptions options_;
   Metrics metrics_;
   std::vector<Route> routes_;

@@ -89,6 +89,12 @@ struct SceneService::Model {
   std::vector<std::uint16_t> last_depth_mm;  // the latest frame, for keyframes
   bool has_begin_keyframe = false;
   engine::FrameCounts last_counts;
+  std::int64_t next_action_layer = 0;  // the layer the next keyframe opens
+  // Settled-movement detection (SceneLimits::settle_*).
+  std::int64_t movable_at_keyframe = 0;
+  std::int64_t reset_since_keyframe = 0;
+  std::int64_t previous_movable = -1;
+  int stable_frames = 0;
 };
 
 SceneService::SceneService(storage::Store& store, SceneLimits limits, MergeSettings merge)
@@ -198,9 +204,11 @@ std::shared_ptr<SceneService::Model> SceneService::Acquire(const std::string& ma
   record->weight.clear();
   record->labels.clear();
   model->record = std::move(*record);
-  model->has_begin_keyframe = store_.Read([&](storage::Connection& c) {
-    for (const auto& k : storage::ListKeyframes(c, map, id)) if (k.kind == "begin") return true;
-    return false;
+  store_.Read([&](storage::Connection& c) {
+    for (const auto& k : storage::ListKeyframes(c, map, id)) {
+      model->has_begin_keyframe = model->has_begin_keyframe || k.kind == "begin";
+      model->next_action_layer = std::max(model->next_action_layer, k.action_layer + 1);
+    }
   });
   if (model->record.status != "observing") return model;  // finished models are read from the database each time
   std::lock_guard<std::mutex> lock(models_mutex_);
@@ -225,7 +233,7 @@ void SceneService::Persist(Model& m) {
   m.unpersisted_frames = 0;
 }
 
-std::int64_t SceneService::StoreKeyframe(Model& m, const std::string& kind, std::int64_t stamp_ns) {
+Json SceneService::StoreKeyframe(Model& m, const std::string& kind, std::int64_t stamp_ns) {
   if (m.last_depth_mm.empty()) {
     throw Error(ErrorCode::kConflict, "scene " + std::to_string(m.record.id) + " has received no frame since it was (re)loaded");
   }
@@ -237,12 +245,36 @@ std::int64_t SceneService::StoreKeyframe(Model& m, const std::string& kind, std:
   k.stamp_ns = stamp_ns;
   k.width = m.K.width;
   k.height = m.K.height;
+  k.action_layer = m.next_action_layer;
   const std::vector<std::uint32_t> shape = {static_cast<std::uint32_t>(m.K.height), static_cast<std::uint32_t>(m.K.width)};
   k.depth = storage::EncodeBlob(BlobElement::kU16, shape, storage::AsBytes(m.last_depth_mm), 3, storage::BlobFilter::kDeltaShuffle16);
   k.background = storage::EncodeBlob(BlobElement::kU16, shape, storage::AsBytes(background_mm), 3, storage::BlobFilter::kDeltaShuffle16);
   k.raw_bytes = static_cast<std::int64_t>(2 * 2 * m.last_depth_mm.size());
   k.stored_bytes = static_cast<std::int64_t>(k.depth.size() + k.background.size());
-  return store_.Write([&](storage::Connection& c) { return storage::InsertKeyframe(c, k); });
+  const std::int64_t id = store_.Write([&](storage::Connection& c) { return storage::InsertKeyframe(c, k); });
+  ++m.next_action_layer;
+  m.movable_at_keyframe = m.last_counts.movable;
+  m.reset_since_keyframe = 0;
+  m.stable_frames = 0;
+  Json out = {{"keyframe", id}, {"kind", kind}, {"action_layer", k.action_layer}};
+  if (listener_) {
+    KeyframeNotice n;
+    n.map = m.record.map_id;
+    n.scene_id = m.record.id;
+    n.keyframe_id = id;
+    n.kind = kind;
+    n.stamp_ns = stamp_ns;
+    n.action_layer = k.action_layer;
+    n.K = m.K;
+    n.X_MapCamera = engine::ToIsometry(json::AsPose3(Json::parse(m.record.pose_json), "pose"));
+    n.beta = m.params.beta;
+    const Json report = Json::parse(m.record.merge_report_json);
+    for (const Json& used : report.value("models_used", Json::array())) n.merged_scenes.push_back(used.at("scene").get<std::int64_t>());
+    n.depth_mm = &m.last_depth_mm;
+    n.background_mm = &background_mm;
+    out["analysis"] = listener_->OnKeyframe(n);
+  }
+  return out;
 }
 
 Json SceneService::AddFrame(const std::string& map, std::int64_t id, const FrameInput& in) {
@@ -282,9 +314,26 @@ Json SceneService::AddFrame(const std::string& map, std::int64_t id, const Frame
   ++m.unpersisted_frames;
   Json out = {{"scene", id}, {"frames", m.state.frames}};
   if (!m.has_begin_keyframe) {
-    out["keyframe"] = StoreKeyframe(m, "begin", stamp);
+    Json k = StoreKeyframe(m, "begin", stamp);
+    out["keyframe"] = k["keyframe"];
+    if (k.contains("analysis")) out["analysis"] = k["analysis"];
     m.has_begin_keyframe = true;
+  } else if (limits_.settle_frames > 0) {
+    // A completed movement: the movable layer changed since the last keyframe, then settled (3.3.4).
+    const auto movable = static_cast<std::int64_t>(m.last_counts.movable);
+    m.reset_since_keyframe += static_cast<std::int64_t>(m.last_counts.reset);
+    const bool changed = std::abs(movable - m.movable_at_keyframe) >= limits_.settle_min_change_px ||
+                         m.reset_since_keyframe >= limits_.settle_min_change_px;
+    const bool steady = m.previous_movable >= 0 && std::abs(movable - m.previous_movable) <= limits_.settle_tolerance_px &&
+                        m.last_counts.dynamic == 0 && m.last_counts.reset <= static_cast<std::size_t>(limits_.settle_tolerance_px);
+    m.stable_frames = steady ? m.stable_frames + 1 : 0;
+    if (changed && m.stable_frames >= limits_.settle_frames) {
+      Json k = StoreKeyframe(m, "settled", stamp);
+      out["keyframe"] = k["keyframe"];
+      if (k.contains("analysis")) out["analysis"] = k["analysis"];
+    }
   }
+  m.previous_movable = static_cast<std::int64_t>(m.last_counts.movable);
   if (m.unpersisted_frames >= limits_.persist_every_frames) Persist(m);
   const auto& c = m.last_counts;
   out["persisted_frames"] = m.record.frames;
@@ -388,7 +437,9 @@ Json SceneService::Keyframe(const std::string& map, std::int64_t id) {
   std::lock_guard<std::mutex> lock(model->mutex);
   if (model->record.status != "observing") throw Error(ErrorCode::kConflict, "scene " + std::to_string(id) + " is " + model->record.status, "scene");
   const std::int64_t stamp = model->record.last_frame_ns.value_or(NowNs());
-  return {{"keyframe", StoreKeyframe(*model, "manual", stamp)}, {"scene", id}};
+  Json out = StoreKeyframe(*model, "manual", stamp);
+  out["scene"] = id;
+  return out;
 }
 
 Json SceneService::Close(const std::string& map, std::int64_t id) {
@@ -398,7 +449,11 @@ Json SceneService::Close(const std::string& map, std::int64_t id) {
   if (m.record.status != "observing") throw Error(ErrorCode::kConflict, "scene " + std::to_string(id) + " is already " + m.record.status, "scene");
   Json out = {{"scene", id}};
   const std::int64_t end = m.record.last_frame_ns.value_or(NowNs());
-  if (!m.last_depth_mm.empty()) out["keyframe"] = StoreKeyframe(m, "end", end);
+  if (!m.last_depth_mm.empty()) {
+    Json k = StoreKeyframe(m, "end", end);
+    out["keyframe"] = k["keyframe"];
+    if (k.contains("analysis")) out["analysis"] = k["analysis"];
+  }
   Persist(m);
   store_.Write([&](storage::Connection& c) { storage::UpdateSceneStatus(c, id, "closed", end, std::nullopt); });
   m.record.status = "closed";

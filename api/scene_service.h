@@ -10,6 +10,7 @@
 #include <string>
 
 #include "api/grid_service.h"
+#include "api/keyframe_listener.h"
 #include "engine/scene/scene_model.h"
 #include "storage/scene_repository.h"
 
@@ -18,6 +19,12 @@ namespace anchordb::api {
 struct SceneLimits {
   int max_image_side = 4096;       // width and height of a model's camera
   int persist_every_frames = 30;   // frames between state checkpoints (1 = every frame is durable when answered)
+  // A completed movement (3.3.4): after the movable layer changed by at least `settle_min_change_px` pixels (or as
+  // many background pixels were reset farther: a removal), it stayed within `settle_tolerance_px` for
+  // `settle_frames` frames without dynamic pixels -> a 'settled' keyframe that starts a new action layer. 0 = off.
+  int settle_frames = 8;
+  int settle_min_change_px = 400;
+  int settle_tolerance_px = 60;
 };
 
 // Which earlier models a new one merges (3.3.3) and which it supersedes (3.3.4).
@@ -57,6 +64,9 @@ class SceneService {
   // which: depth | background (16-bit PNG, mm)
   ExportedLayer KeyframeImage(const std::string& map, std::int64_t id, const std::string& which);
 
+  // Receives every stored keyframe (the event layer); not owned, may be null.
+  void SetKeyframeListener(KeyframeListener* listener) { listener_ = listener; }
+
   // Writes every in-memory model whose state changed since its last checkpoint.
   void PersistAll();
 
@@ -64,7 +74,8 @@ class SceneService {
   struct Model;
   std::shared_ptr<Model> Acquire(const std::string& map, std::int64_t id);
   void Persist(Model& model);
-  std::int64_t StoreKeyframe(Model& model, const std::string& kind, std::int64_t stamp_ns);
+  // Stores a keyframe and lets the listener analyse it: {"keyframe": id, "action_layer", "analysis"}.
+  Json StoreKeyframe(Model& model, const std::string& kind, std::int64_t stamp_ns);
   Json Describe(const Model& model) const;
   Json SelectCandidates(const std::string& map, const PinholeIntrinsics& K, const Pose3& pose, std::int64_t stamp_ns);
   void MergeFirstFrame(Model& model, const std::vector<std::uint16_t>& depth, double scale,
@@ -73,6 +84,7 @@ class SceneService {
   storage::Store& store_;
   SceneLimits limits_;
   MergeSettings merge_;
+  KeyframeListener* listener_ = nullptr;
   std::mutex models_mutex_;
   std::map<std::int64_t, std::shared_ptr<Model>> models_;
 };

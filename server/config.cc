@@ -83,6 +83,12 @@ const std::vector<Binding>& Bindings() {
       Bind("scene_persist_every_frames", "frames between checkpoints of an observing scene model (1 = every frame durable)",
            &Config::scene_persist_every_frames, 1, 1e6),
       Bind("scene_max_image_side", "largest camera width or height of a scene model [px]", &Config::scene_max_image_side, 1, 16384),
+      Bind("scene_settle_frames", "steady frames after a change of the movable layer that make a 'settled' keyframe "
+           "(a completed movement, new action layer); 0 = off", &Config::scene_settle_frames, 0, 1e6),
+      Bind("segment_cluster_tolerance_m", "Euclidean clustering of movable points: neighbour distance [m]",
+           &Config::segment_cluster_tolerance_m, 0.001, 1.0),
+      Bind("segment_min_points", "smallest segment (movable pixels) that makes a change event", &Config::segment_min_points, 1, 1e7),
+      Bind("segment_min_extent_m", "smallest largest side of a segment's bounding box [m]", &Config::segment_min_extent_m, 0.0, 10.0),
       Bind("merge_max_candidates", "most earlier scene models merged into a new one (newest first)", &Config::merge_max_candidates, 0, 100),
       Bind("merge_max_age_s", "earlier scene models older than this are not merged [s]", &Config::merge_max_age_s, 0, 1e10),
       Bind("merge_candidate_radius_m", "earlier cameras farther than this from the new one are not merged [m]",

@@ -45,6 +45,10 @@ struct Config {
   std::int64_t viewpoint_seed = 42;
   int scene_persist_every_frames = 30;
   int scene_max_image_side = 4096;
+  int scene_settle_frames = 8;
+  double segment_cluster_tolerance_m = 0.025;
+  int segment_min_points = 250;
+  double segment_min_extent_m = 0.03;
   int merge_max_candidates = 5;
   double merge_max_age_s = 30.0 * 24 * 3600;
   double merge_candidate_radius_m = 6.0;

@@ -107,6 +107,7 @@ int Serve(const Config& config) {
   api::SceneLimits scene_limits;
   scene_limits.persist_every_frames = config.scene_persist_every_frames;
   scene_limits.max_image_side = config.scene_max_image_side;
+  scene_limits.settle_frames = config.scene_settle_frames;
   api::MergeSettings merge;
   merge.max_candidates = config.merge_max_candidates;
   merge.max_age_s = config.merge_max_age_s;
@@ -131,6 +132,12 @@ int Serve(const Config& config) {
     furniture_settings.knowledge_json.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
   api::FurnitureService furniture(store, furniture_settings);
+  api::EventSettings event_settings;
+  event_settings.change.segments.cluster_tolerance_m = config.segment_cluster_tolerance_m;
+  event_settings.change.segments.min_points = config.segment_min_points;
+  event_settings.change.segments.min_extent_m = config.segment_min_extent_m;
+  api::EventService events(store, &furniture, event_settings);
+  scenes.SetKeyframeListener(&events);
 
   api::HttpOptions options;
   options.auth_required = auth_required;
@@ -142,7 +149,7 @@ int Serve(const Config& config) {
   if (config.log_requests) options.log = Log;
   options.settings = [config] { return SettingsJson(config); };
   options.max_body_bytes = static_cast<std::size_t>(config.max_body_bytes);
-  api::HttpApi http(service, scenes, furniture, options);
+  api::HttpApi http(service, scenes, furniture, events, options);
 
   httplib::Server server;
   const int threads = config.threads;

@@ -16,7 +16,7 @@ std::optional<std::int64_t> OptionalInt(const Statement& s, int c) {
 
 constexpr const char* kSceneColumns =
     "id, map_id, status, superseded_by, intrinsics, pose, x_m, y_m, z_m, params, merge_report, started_ns, ended_ns, "
-    "last_frame_ns, frames, state_version";
+    "last_frame_ns, frames, state_version, forgotten_ns";
 
 SceneRecord ReadScene(Statement& s, bool with_state) {
   SceneRecord r;
@@ -36,10 +36,11 @@ SceneRecord ReadScene(Statement& s, bool with_state) {
   r.last_frame_ns = OptionalInt(s, 13);
   r.frames = s.Int(14);
   r.state_version = s.Int(15);
+  r.forgotten_ns = OptionalInt(s, 16);
   if (with_state) {
-    r.background = s.Blob(16);
-    r.weight = s.Blob(17);
-    r.labels = s.Blob(18);
+    r.background = s.Blob(17);
+    r.weight = s.Blob(18);
+    r.labels = s.Blob(19);
   }
   return r;
 }
@@ -105,10 +106,10 @@ void UpdateSceneStatus(Connection& c, std::int64_t id, const std::string& status
 
 std::int64_t InsertKeyframe(Connection& c, const KeyframeRecord& k) {
   Statement s(c, "INSERT INTO keyframes (map_id, scene_id, kind, stamp_ns, width, height, depth, background, raw_bytes, "
-                 "stored_bytes, pinned) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+                 "stored_bytes, pinned, action_layer) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
   s.Bind(1, k.map_id).Bind(2, k.scene_id).Bind(3, k.kind).Bind(4, k.stamp_ns).Bind(5, static_cast<std::int64_t>(k.width))
       .Bind(6, static_cast<std::int64_t>(k.height)).BindBlob(7, k.depth).BindBlob(8, k.background).Bind(9, k.raw_bytes)
-      .Bind(10, k.stored_bytes).Bind(11, static_cast<std::int64_t>(k.pinned)).Run();
+      .Bind(10, k.stored_bytes).Bind(11, static_cast<std::int64_t>(k.pinned)).Bind(12, k.action_layer).Run();
   return sqlite3_last_insert_rowid(c.handle());
 }
 
@@ -125,14 +126,16 @@ KeyframeRecord ReadKeyframe(Statement& s, bool with_images) {
   k.raw_bytes = s.Int(7);
   k.stored_bytes = s.Int(8);
   k.pinned = s.Int(9) != 0;
+  k.action_layer = s.Int(10);
+  k.relevance = s.Double(11);
   if (with_images) {
-    k.depth = s.Blob(10);
-    k.background = s.Blob(11);
+    k.depth = s.Blob(12);
+    k.background = s.Blob(13);
   }
   return k;
 }
 constexpr const char* kKeyframeColumns =
-    "id, map_id, scene_id, kind, stamp_ns, width, height, raw_bytes, stored_bytes, pinned";
+    "id, map_id, scene_id, kind, stamp_ns, width, height, raw_bytes, stored_bytes, pinned, action_layer, relevance";
 }  // namespace
 
 std::optional<KeyframeRecord> FindKeyframe(Connection& c, const std::string& map_id, std::int64_t id, bool with_images) {

@@ -25,6 +25,7 @@ struct SceneRecord {
   std::optional<std::int64_t> last_frame_ns;
   std::int64_t frames = 0;
   std::int64_t state_version = 0;
+  std::optional<std::int64_t> forgotten_ns;  // forgetting dropped the state of this superseded model
   // State blobs; empty when not loaded or never persisted.
   std::string background;
   std::string weight;
@@ -59,6 +60,8 @@ struct KeyframeRecord {
   std::int64_t raw_bytes = 0;
   std::int64_t stored_bytes = 0;
   bool pinned = false;
+  std::int64_t action_layer = 0;  // the layer this keyframe opens (0 for the begin keyframe)
+  double relevance = 0.0;
 };
 std::int64_t InsertKeyframe(Connection& c, const KeyframeRecord& keyframe);
 std::optional<KeyframeRecord> FindKeyframe(Connection& c, const std::string& map_id, std::int64_t id, bool with_images);

@@ -228,27 +228,42 @@ Production Produce(const FurnitureGraph& graph, const Knowledge& knowledge, cons
   };
   argmax(located, out.located_category, out.located_probability);
   argmax(reference, out.reference_category, out.reference_probability);
-  const Nature nature = knowledge.categories[out.reference_category].nature;
+  Distribution4 relative{};
+  for (int r = 0; r < kRelationCount; ++r) relative[Idx(r)] = s.relation[Idx(directed * kRelationCount + r)];
+  const WordChoice choice = PreferredWord(knowledge, best, k, reference, relative);
+  out.word_probability = choice.word_probability;
+  out.relation = choice.word;
+  out.frame = choice.frame;
+  return out;
+}
+
+WordChoice PreferredWord(const Knowledge& knowledge, const Hypothesis& best, int category_count, int reference,
+                         const Distribution4& relative) {
+  const GraphState& s = best.state;
+  const Scheme scheme = best.scheme.value_or(Scheme::kStatistical);
+  const double* row = &s.category[Idx(reference * category_count)];
+  const int category = static_cast<int>(std::max_element(row, row + category_count) - row);
+  const Nature nature = knowledge.categories[category].nature;
   // P(word, frame) = sum over the relation r' seen and the orientation o believed of
-  //   P(r' | e) P(o | v_ref) P(frame | nature, o, r'), with the word the frame gives for r'.
+  //   P(r') P(o | v_ref) P(frame | nature, o, r'), with the word the frame gives for r'.
   double by_frame[kRelationCount][2] = {};
   for (int r = 0; r < kRelationCount; ++r) {
-    const double p_r = s.relation[Idx(directed * kRelationCount + r)];
     for (int o = 0; o < kOrientationCount; ++o) {
-      const double w = p_r * s.orientation[Idx(reference * kOrientationCount + o)];
+      const double w = relative[Idx(r)] * s.orientation[Idx(reference * kOrientationCount + o)];
       const auto rel = static_cast<Relation>(r);
       const auto orient = static_cast<Orientation>(o);
-      by_frame[r][0] += w * knowledge.prior.Probability(out.scheme, Frame::kRelative, nature, orient, rel);
+      by_frame[r][0] += w * knowledge.prior.Probability(scheme, Frame::kRelative, nature, orient, rel);
       const int word = static_cast<int>(RelativeToIntrinsic(rel, nature, orient));
-      by_frame[word][1] += w * knowledge.prior.Probability(out.scheme, Frame::kIntrinsic, nature, orient, rel);
+      by_frame[word][1] += w * knowledge.prior.Probability(scheme, Frame::kIntrinsic, nature, orient, rel);
     }
   }
+  WordChoice out;
   int best_word = 0;
   for (int r = 0; r < kRelationCount; ++r) {
     out.word_probability[Idx(r)] = by_frame[r][0] + by_frame[r][1];
     if (out.word_probability[Idx(r)] > out.word_probability[Idx(best_word)]) best_word = r;
   }
-  out.relation = static_cast<Relation>(best_word);
+  out.word = static_cast<Relation>(best_word);
   out.frame = by_frame[best_word][1] > by_frame[best_word][0] ? Frame::kIntrinsic : Frame::kRelative;
   return out;
 }

@@ -117,4 +117,15 @@ struct Production {
 Production Produce(const FurnitureGraph& graph, const Knowledge& knowledge, const Hypothesis& best, int located,
                    int reference);
 
+// The word a listener of `best` most likely uses for a located thing whose relation to vertex `reference`, seen
+// from the viewpoint, is distributed as `relative` (p(r')): the frame choice of Produce, for objects that are not
+// vertices of the graph (where-is answers, SPEC §4.4).
+struct WordChoice {
+  Relation word = Relation::kLeftOf;
+  Frame frame = Frame::kRelative;
+  Distribution4 word_probability{};
+};
+WordChoice PreferredWord(const Knowledge& knowledge, const Hypothesis& best, int category_count, int reference,
+                         const Distribution4& relative);
+
 }  // namespace anchordb::engine::grounding

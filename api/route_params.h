@@ -1,0 +1,70 @@
+#pragma once
+// Parsing of path and query parameters shared by the route files: every failure is a clear Error with the
+// parameter's name as the field.
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "api/http_api.h"
+#include "schema/error.h"
+
+namespace anchordb::api::params {
+
+inline Response JsonResponse(const Json& j, int status = 200) { return {status, "application/json", j.dump(), {}}; }
+
+// An integer id in the path; anything else names no resource (404).
+inline std::int64_t PathId(const PathParams& p, const std::string& name, const std::string& what) {
+  const std::string& text = p[name];
+  if (text.empty() || text.size() > 18 || text.find_first_not_of("0123456789") != std::string::npos) {
+    throw Error(ErrorCode::kNotFound, what + " '" + text + "' does not exist (ids are integers)", name);
+  }
+  return std::stoll(text);
+}
+
+// An integer query parameter in [lo, hi], or `fallback` when absent.
+inline std::int64_t QueryInteger(const httplib::Request& req, const std::string& name, std::int64_t fallback,
+                                 std::int64_t lo, std::int64_t hi) {
+  if (!req.has_param(name)) return fallback;
+  const std::string text = req.get_param_value(name);
+  if (text.empty() || text.size() > 18 || text.find_first_not_of("0123456789") != std::string::npos) {
+    throw Error(ErrorCode::kInvalidArgument, name + " must be a non-negative integer", name);
+  }
+  const std::int64_t v = std::stoll(text);
+  if (v < lo || v > hi) {
+    throw Error(ErrorCode::kUnprocessable, name + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", name);
+  }
+  return v;
+}
+
+// A time query parameter: integer nanoseconds since the epoch or an ISO 8601 string.
+inline std::optional<std::int64_t> QueryTime(const httplib::Request& req, const std::string& name) {
+  if (!req.has_param(name)) return std::nullopt;
+  const std::string text = req.get_param_value(name);
+  if (!text.empty() && text.find_first_not_of("0123456789") == std::string::npos && text.size() <= 19) return std::stoll(text);
+  return json::AsStampNs(Json(text), name);
+}
+
+inline std::optional<std::string> QueryString(const httplib::Request& req, const std::string& name, std::size_t max_length) {
+  if (!req.has_param(name)) return std::nullopt;
+  std::string v = req.get_param_value(name);
+  if (v.size() > max_length) throw Error(ErrorCode::kInvalidArgument, name + " is longer than " + std::to_string(max_length) + " characters", name);
+  return v;
+}
+
+// One of a fixed set of words.
+inline std::optional<std::string> QueryChoice(const httplib::Request& req, const std::string& name,
+                                              std::initializer_list<const char*> allowed) {
+  if (!req.has_param(name)) return std::nullopt;
+  const std::string v = req.get_param_value(name);
+  std::string list;
+  for (const char* a : allowed) {
+    if (v == a) return v;
+    list += list.empty() ? a : std::string(", ") + a;
+  }
+  throw Error(ErrorCode::kInvalidArgument, name + " must be one of " + list, name);
+}
+
+inline Json BodyObject(const httplib::Request& req) { return req.body.empty() ? Json::object() : json::ParseObject(req.body); }
+
+}  // namespace anchordb::api::params

@@ -1,0 +1,276 @@
+#include "storage/event_repository.h"
+
+#include "schema/error.h"
+
+namespace anchordb::storage {
+namespace {
+
+void BindOptional(Statement& s, int i, const std::optional<std::int64_t>& v) {
+  if (v) s.Bind(i, *v); else s.BindNull(i);
+}
+std::optional<std::int64_t> OptionalInt(const Statement& s, int c) {
+  if (s.IsNull(c)) return std::nullopt;
+  return s.Int(c);
+}
+
+constexpr const char* kSegmentColumns =
+    "id, map_id, keyframe_id, x_m, y_m, z_m, min_x_m, min_y_m, min_z_m, max_x_m, max_y_m, max_z_m, points, sample";
+
+constexpr const char* kInstanceColumns =
+    "id, map_id, kind, status, labels, label_locked, status_locked, pinned, x_m, y_m, z_m, extent_x_m, extent_y_m, "
+    "extent_z_m, yaw_rad, last_seen_ns, last_scene_id, created_ns, updated_ns";
+
+InstanceRecord ReadInstance(const Statement& s, bool with_sample) {
+  InstanceRecord r;
+  r.id = s.Int(0);
+  r.map_id = s.Text(1);
+  r.kind = s.Text(2);
+  r.status = s.Text(3);
+  r.labels_json = s.Text(4);
+  r.label_locked = s.Int(5) != 0;
+  r.status_locked = s.Int(6) != 0;
+  r.pinned = s.Int(7) != 0;
+  for (int k = 0; k < 3; ++k) r.position[k] = s.Double(8 + k), r.extent[k] = s.Double(11 + k);
+  r.yaw_rad = s.Double(14);
+  r.last_seen_ns = s.Int(15);
+  r.last_scene_id = OptionalInt(s, 16);
+  r.created_ns = s.Int(17);
+  r.updated_ns = s.Int(18);
+  if (with_sample && !s.IsNull(19)) r.sample = s.Blob(19);
+  return r;
+}
+
+constexpr const char* kEventColumns =
+    "id, map_id, type, detection, stamp_ns, scene_id, action_layer, instance_id, segment_id, label, explanation, "
+    "details, pinned, created_ns";
+
+EventRecord ReadEvent(const Statement& s) {
+  EventRecord e;
+  e.id = s.Int(0);
+  e.map_id = s.Text(1);
+  e.type = s.Text(2);
+  e.detection = s.Text(3);
+  e.stamp_ns = s.Int(4);
+  e.scene_id = OptionalInt(s, 5);
+  e.action_layer = OptionalInt(s, 6);
+  e.instance_id = OptionalInt(s, 7);
+  e.segment_id = OptionalInt(s, 8);
+  if (!s.IsNull(9)) e.label = s.Text(9);
+  e.explanation = s.Text(10);
+  e.details_json = s.Text(11);
+  e.pinned = s.Int(12) != 0;
+  e.created_ns = s.Int(13);
+  return e;
+}
+
+void LoadEvidence(Connection& c, EventRecord& e) {
+  Statement s(c, "SELECT keyframe_id, role FROM event_evidence WHERE event_id = ? ORDER BY role DESC, keyframe_id");
+  s.Bind(1, e.id);
+  while (s.Step()) e.evidence.push_back({s.Int(0), s.Text(1)});
+}
+
+}  // namespace
+
+std::int64_t InsertSegment(Connection& c, const SegmentRecord& r) {
+  Statement s(c, "INSERT INTO segments (map_id, keyframe_id, x_m, y_m, z_m, min_x_m, min_y_m, min_z_m, max_x_m, max_y_m, "
+                 "max_z_m, points, sample) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+  s.Bind(1, r.map_id).Bind(2, r.keyframe_id);
+  for (int k = 0; k < 3; ++k) s.Bind(3 + k, r.centroid[k]).Bind(6 + k, r.min[k]).Bind(9 + k, r.max[k]);
+  s.Bind(12, r.points).BindBlob(13, r.sample).Run();
+  return sqlite3_last_insert_rowid(c.handle());
+}
+
+std::optional<SegmentRecord> FindSegment(Connection& c, std::int64_t id) {
+  Statement s(c, std::string("SELECT ") + kSegmentColumns + " FROM segments WHERE id = ?");
+  s.Bind(1, id);
+  if (!s.Step()) return std::nullopt;
+  SegmentRecord r;
+  r.id = s.Int(0);
+  r.map_id = s.Text(1);
+  r.keyframe_id = s.Int(2);
+  for (int k = 0; k < 3; ++k) r.centroid[k] = s.Double(3 + k), r.min[k] = s.Double(6 + k), r.max[k] = s.Double(9 + k);
+  r.points = s.Int(12);
+  r.sample = s.Blob(13);
+  return r;
+}
+
+std::int64_t InsertInstance(Connection& c, const InstanceRecord& r) {
+  Statement s(c, "INSERT INTO instances (map_id, kind, status, labels, label_locked, status_locked, pinned, x_m, y_m, z_m, "
+                 "extent_x_m, extent_y_m, extent_z_m, yaw_rad, last_seen_ns, last_scene_id, created_ns, updated_ns, sample) "
+                 "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+  s.Bind(1, r.map_id).Bind(2, r.kind).Bind(3, r.status).Bind(4, r.labels_json)
+      .Bind(5, static_cast<std::int64_t>(r.label_locked)).Bind(6, static_cast<std::int64_t>(r.status_locked))
+      .Bind(7, static_cast<std::int64_t>(r.pinned));
+  for (int k = 0; k < 3; ++k) s.Bind(8 + k, r.position[k]).Bind(11 + k, r.extent[k]);
+  s.Bind(14, r.yaw_rad).Bind(15, r.last_seen_ns);
+  BindOptional(s, 16, r.last_scene_id);
+  s.Bind(17, r.created_ns).Bind(18, r.updated_ns);
+  if (r.sample.empty()) s.BindNull(19); else s.BindBlob(19, r.sample);
+  s.Run();
+  return sqlite3_last_insert_rowid(c.handle());
+}
+
+void UpdateInstance(Connection& c, const InstanceRecord& r) {
+  Statement s(c, "UPDATE instances SET kind = ?, status = ?, labels = ?, label_locked = ?, status_locked = ?, pinned = ?, "
+                 "x_m = ?, y_m = ?, z_m = ?, extent_x_m = ?, extent_y_m = ?, extent_z_m = ?, yaw_rad = ?, last_seen_ns = ?, "
+                 "last_scene_id = ?, updated_ns = ?, sample = COALESCE(?, sample) WHERE id = ?");
+  s.Bind(1, r.kind).Bind(2, r.status).Bind(3, r.labels_json).Bind(4, static_cast<std::int64_t>(r.label_locked))
+      .Bind(5, static_cast<std::int64_t>(r.status_locked)).Bind(6, static_cast<std::int64_t>(r.pinned));
+  for (int k = 0; k < 3; ++k) s.Bind(7 + k, r.position[k]).Bind(10 + k, r.extent[k]);
+  s.Bind(13, r.yaw_rad).Bind(14, r.last_seen_ns);
+  BindOptional(s, 15, r.last_scene_id);
+  s.Bind(16, r.updated_ns);
+  if (r.sample.empty()) s.BindNull(17); else s.BindBlob(17, r.sample);
+  s.Bind(18, r.id).Run();
+}
+
+std::optional<InstanceRecord> FindInstance(Connection& c, const std::string& map_id, std::int64_t id, bool with_sample) {
+  Statement s(c, std::string("SELECT ") + kInstanceColumns + (with_sample ? ", sample" : "") +
+                     " FROM instances WHERE map_id = ? AND id = ?");
+  s.Bind(1, map_id).Bind(2, id);
+  if (!s.Step()) return std::nullopt;
+  return ReadInstance(s, with_sample);
+}
+
+std::vector<InstanceRecord> ListInstances(Connection& c, const std::string& map_id, const InstanceFilter& f,
+                                          bool with_sample) {
+  std::string sql = std::string("SELECT ") + kInstanceColumns + (with_sample ? ", sample" : "") +
+                    " FROM instances WHERE map_id = ?1 AND id > ?2";
+  if (f.kind) sql += " AND kind = ?3";
+  if (f.status) sql += " AND status = ?4";
+  else if (!f.include_deleted) sql += " AND status != 'deleted'";
+  sql += " ORDER BY id LIMIT ?5";
+  Statement s(c, sql);
+  s.Bind(1, map_id).Bind(2, f.after_id).Bind(5, static_cast<std::int64_t>(f.limit));
+  if (f.kind) s.Bind(3, *f.kind);
+  if (f.status) s.Bind(4, *f.status);
+  std::vector<InstanceRecord> out;
+  while (s.Step()) out.push_back(ReadInstance(s, with_sample));
+  return out;
+}
+
+void AppendHistory(Connection& c, const HistoryRecord& h) {
+  Statement s(c, "INSERT INTO instance_history (instance_id, seq, stamp_ns, present, x_m, y_m, z_m, event_id) "
+                 "VALUES (?1, (SELECT COALESCE(MAX(seq), 0) + 1 FROM instance_history WHERE instance_id = ?1), ?2, ?3, ?4, "
+                 "?5, ?6, ?7)");
+  s.Bind(1, h.instance_id).Bind(2, h.stamp_ns).Bind(3, static_cast<std::int64_t>(h.present))
+      .Bind(4, h.position[0]).Bind(5, h.position[1]).Bind(6, h.position[2]);
+  BindOptional(s, 7, h.event_id);
+  s.Run();
+}
+
+namespace {
+HistoryRecord ReadHistory(const Statement& s) {
+  HistoryRecord h;
+  h.instance_id = s.Int(0);
+  h.seq = s.Int(1);
+  h.stamp_ns = s.Int(2);
+  h.present = s.Int(3) != 0;
+  for (int k = 0; k < 3; ++k) h.position[k] = s.Double(4 + k);
+  h.event_id = OptionalInt(s, 7);
+  return h;
+}
+constexpr const char* kHistoryColumns = "instance_id, seq, stamp_ns, present, x_m, y_m, z_m, event_id";
+}  // namespace
+
+std::vector<HistoryRecord> ListHistory(Connection& c, std::int64_t instance_id) {
+  Statement s(c, std::string("SELECT ") + kHistoryColumns + " FROM instance_history WHERE instance_id = ? ORDER BY seq");
+  s.Bind(1, instance_id);
+  std::vector<HistoryRecord> out;
+  while (s.Step()) out.push_back(ReadHistory(s));
+  return out;
+}
+
+std::optional<HistoryRecord> HistoryAt(Connection& c, std::int64_t instance_id, std::int64_t at_ns) {
+  Statement s(c, std::string("SELECT ") + kHistoryColumns +
+                     " FROM instance_history WHERE instance_id = ? AND stamp_ns <= ? ORDER BY stamp_ns DESC, seq DESC LIMIT 1");
+  s.Bind(1, instance_id).Bind(2, at_ns);
+  if (!s.Step()) return std::nullopt;
+  return ReadHistory(s);
+}
+
+std::int64_t InsertEvent(Connection& c, const EventRecord& e) {
+  Statement s(c, "INSERT INTO events (map_id, type, detection, stamp_ns, scene_id, action_layer, instance_id, segment_id, "
+                 "label, explanation, details, pinned, created_ns) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+  s.Bind(1, e.map_id).Bind(2, e.type).Bind(3, e.detection).Bind(4, e.stamp_ns);
+  BindOptional(s, 5, e.scene_id);
+  BindOptional(s, 6, e.action_layer);
+  BindOptional(s, 7, e.instance_id);
+  BindOptional(s, 8, e.segment_id);
+  if (e.label) s.Bind(9, *e.label); else s.BindNull(9);
+  s.Bind(10, e.explanation).Bind(11, e.details_json).Bind(12, static_cast<std::int64_t>(e.pinned)).Bind(13, e.created_ns).Run();
+  const std::int64_t id = sqlite3_last_insert_rowid(c.handle());
+  for (const auto& ev : e.evidence) {
+    Statement(c, "INSERT OR IGNORE INTO event_evidence (event_id, keyframe_id, role) VALUES (?, ?, ?)")
+        .Bind(1, id).Bind(2, ev.keyframe_id).Bind(3, ev.role).Run();
+  }
+  return id;
+}
+
+std::optional<EventRecord> FindEvent(Connection& c, const std::string& map_id, std::int64_t id) {
+  Statement s(c, std::string("SELECT ") + kEventColumns + " FROM events WHERE map_id = ? AND id = ?");
+  s.Bind(1, map_id).Bind(2, id);
+  if (!s.Step()) return std::nullopt;
+  EventRecord e = ReadEvent(s);
+  LoadEvidence(c, e);
+  return e;
+}
+
+std::vector<EventRecord> ListEvents(Connection& c, const std::string& map_id, const EventFilter& f) {
+  std::string sql = std::string("SELECT ") + kEventColumns + " FROM events WHERE map_id = ?1 AND id > ?2";
+  if (f.since_ns) sql += " AND stamp_ns >= ?3";
+  if (f.until_ns) sql += " AND stamp_ns <= ?4";
+  if (f.type) sql += " AND type = ?5";
+  if (f.instance_id) sql += " AND instance_id = ?6";
+  if (f.scene_id) sql += " AND scene_id = ?7";
+  sql += " ORDER BY id LIMIT ?8";
+  Statement s(c, sql);
+  s.Bind(1, map_id).Bind(2, f.after_id).Bind(8, static_cast<std::int64_t>(f.limit));
+  if (f.since_ns) s.Bind(3, *f.since_ns);
+  if (f.until_ns) s.Bind(4, *f.until_ns);
+  if (f.type) s.Bind(5, *f.type);
+  if (f.instance_id) s.Bind(6, *f.instance_id);
+  if (f.scene_id) s.Bind(7, *f.scene_id);
+  std::vector<EventRecord> out;
+  while (s.Step()) out.push_back(ReadEvent(s));
+  for (auto& e : out) LoadEvidence(c, e);
+  return out;
+}
+
+void SetEventInstance(Connection& c, std::int64_t event_id, std::int64_t instance_id) {
+  Statement(c, "UPDATE events SET instance_id = ? WHERE id = ?").Bind(1, instance_id).Bind(2, event_id).Run();
+}
+
+void UpdateEventExplanation(Connection& c, std::int64_t event_id, const std::string& type, const std::string& detection,
+                            const std::string& explanation, const std::string& details_json) {
+  Statement(c, "UPDATE events SET type = ?, detection = ?, explanation = ?, details = ? WHERE id = ?")
+      .Bind(1, type).Bind(2, detection).Bind(3, explanation).Bind(4, details_json).Bind(5, event_id).Run();
+}
+
+std::optional<std::int64_t> LatestKeyframeId(Connection& c, std::int64_t scene_id) {
+  Statement s(c, "SELECT id FROM keyframes WHERE scene_id = ? ORDER BY stamp_ns DESC, id DESC LIMIT 1");
+  s.Bind(1, scene_id);
+  if (!s.Step()) return std::nullopt;
+  return s.Int(0);
+}
+
+bool SetKeyframePinned(Connection& c, const std::string& map_id, std::int64_t id, bool pinned) {
+  Statement(c, "UPDATE keyframes SET pinned = ? WHERE map_id = ? AND id = ?")
+      .Bind(1, static_cast<std::int64_t>(pinned)).Bind(2, map_id).Bind(3, id).Run();
+  return c.Changes() == 1;
+}
+
+bool SetKeyframeRelevance(Connection& c, const std::string& map_id, std::int64_t id, double relevance) {
+  Statement(c, "UPDATE keyframes SET relevance = ? WHERE map_id = ? AND id = ?").Bind(1, relevance).Bind(2, map_id).Bind(3, id).Run();
+  return c.Changes() == 1;
+}
+
+std::int64_t KeyframeReferences(Connection& c, std::int64_t id) {
+  Statement s(c, "SELECT (SELECT COUNT(*) FROM event_evidence WHERE keyframe_id = ?1) + "
+                 "(SELECT COUNT(*) FROM segments WHERE keyframe_id = ?1)");
+  s.Bind(1, id);
+  s.Step();
+  return s.Int(0);
+}
+
+}  // namespace anchordb::storage

@@ -1,0 +1,115 @@
+#pragma once
+// SQL for segments, object instances with their position history, change events with their evidence keyframes,
+// and jobs (migration 0004).
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "storage/sqlite.h"
+
+namespace anchordb::storage {
+
+struct SegmentRecord {
+  std::int64_t id = 0;
+  std::string map_id;
+  std::int64_t keyframe_id = 0;
+  double centroid[3] = {0, 0, 0};
+  double min[3] = {0, 0, 0};
+  double max[3] = {0, 0, 0};
+  std::int64_t points = 0;
+  std::string sample;  // blob f32 {n, 3}
+};
+std::int64_t InsertSegment(Connection& c, const SegmentRecord& s);
+std::optional<SegmentRecord> FindSegment(Connection& c, std::int64_t id);
+
+struct InstanceRecord {
+  std::int64_t id = 0;
+  std::string map_id;
+  std::string kind = "object";
+  std::string status = "present";
+  std::string labels_json = "{}";
+  bool label_locked = false;
+  bool status_locked = false;
+  bool pinned = false;
+  double position[3] = {0, 0, 0};
+  double extent[3] = {0, 0, 0};
+  double yaw_rad = 0.0;
+  std::string sample;  // blob, may be empty
+  std::int64_t last_seen_ns = 0;
+  std::optional<std::int64_t> last_scene_id;
+  std::int64_t created_ns = 0;
+  std::int64_t updated_ns = 0;
+};
+std::int64_t InsertInstance(Connection& c, const InstanceRecord& r);
+void UpdateInstance(Connection& c, const InstanceRecord& r);  // every column but id, map_id, created_ns
+std::optional<InstanceRecord> FindInstance(Connection& c, const std::string& map_id, std::int64_t id, bool with_sample);
+struct InstanceFilter {
+  std::optional<std::string> kind;
+  std::optional<std::string> status;      // exact; default: everything but 'deleted'
+  bool include_deleted = false;
+  std::int64_t after_id = 0;
+  int limit = 100;
+};
+std::vector<InstanceRecord> ListInstances(Connection& c, const std::string& map_id, const InstanceFilter& f,
+                                          bool with_sample);
+
+struct HistoryRecord {
+  std::int64_t instance_id = 0;
+  std::int64_t seq = 0;
+  std::int64_t stamp_ns = 0;
+  bool present = true;
+  double position[3] = {0, 0, 0};
+  std::optional<std::int64_t> event_id;
+};
+void AppendHistory(Connection& c, const HistoryRecord& h);  // seq assigned: last + 1
+std::vector<HistoryRecord> ListHistory(Connection& c, std::int64_t instance_id);
+// The last history entry at or before `at_ns`.
+std::optional<HistoryRecord> HistoryAt(Connection& c, std::int64_t instance_id, std::int64_t at_ns);
+
+struct EvidenceRecord {
+  std::int64_t keyframe_id = 0;
+  std::string role;  // before | after
+};
+struct EventRecord {
+  std::int64_t id = 0;
+  std::string map_id;
+  std::string type;
+  std::string detection;
+  std::int64_t stamp_ns = 0;
+  std::optional<std::int64_t> scene_id;
+  std::optional<std::int64_t> action_layer;
+  std::optional<std::int64_t> instance_id;
+  std::optional<std::int64_t> segment_id;
+  std::optional<std::string> label;
+  std::string explanation;
+  std::string details_json = "{}";
+  bool pinned = false;
+  std::int64_t created_ns = 0;
+  std::vector<EvidenceRecord> evidence;
+};
+std::int64_t InsertEvent(Connection& c, const EventRecord& e);  // with its evidence
+std::optional<EventRecord> FindEvent(Connection& c, const std::string& map_id, std::int64_t id);
+struct EventFilter {
+  std::optional<std::int64_t> since_ns;
+  std::optional<std::int64_t> until_ns;
+  std::optional<std::string> type;
+  std::optional<std::int64_t> instance_id;
+  std::optional<std::int64_t> scene_id;
+  std::int64_t after_id = 0;
+  int limit = 100;
+};
+// Events in (stamp_ns, id) order.
+std::vector<EventRecord> ListEvents(Connection& c, const std::string& map_id, const EventFilter& f);
+void SetEventInstance(Connection& c, std::int64_t event_id, std::int64_t instance_id);
+void UpdateEventExplanation(Connection& c, std::int64_t event_id, const std::string& type, const std::string& detection,
+                            const std::string& explanation, const std::string& details_json);
+
+// Keyframes: the latest of a scene (before `before_id` when given), pinning and relevance.
+std::optional<std::int64_t> LatestKeyframeId(Connection& c, std::int64_t scene_id);
+bool SetKeyframePinned(Connection& c, const std::string& map_id, std::int64_t id, bool pinned);
+bool SetKeyframeRelevance(Connection& c, const std::string& map_id, std::int64_t id, double relevance);
+// How many events use the keyframe as evidence and how many segments came from it.
+std::int64_t KeyframeReferences(Connection& c, std::int64_t id);
+
+}  // namespace anchordb::storage
