@@ -97,8 +97,14 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
     const bool dyn = !dynamic_mask.empty() && dynamic_mask[i];
     frame_m[i] = dyn ? 0.0f : static_cast<float>(depth[i] / units_per_m);
   }
-  const std::vector<Eigen::Vector3f> frame_cloud_C = BackProject(frame_m, K, Eigen::Isometry3d::Identity());
   const Eigen::Isometry3d X_CM = X_MapCamera.inverse();
+  // The ICP target (the current frame: downsampled, normals, search tree) is prepared once for every earlier model.
+  IcpTarget icp_target;
+  if (params.strategy != MergeStrategy::kNaiveWithoutIcp && !priors.empty()) {
+    const auto start = Clock::now();
+    icp_target = PrepareIcpTarget(BackProject(frame_m, K, Eigen::Isometry3d::Identity()), params.icp);
+    result.timing.icp_ms += MsSince(start);
+  }
 
   std::vector<float> s_v = frame_m;            // line 1: S_v <- F_t
   std::vector<float> w(n, 1.0f);
@@ -111,8 +117,8 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
     auto start = Clock::now();
     std::vector<Eigen::Vector3f> cloud_C = BackProject(prior.background_m, prior.K, X_CM * prior.X_MapCamera);
     Eigen::Isometry3d X_C_prior = X_CM * prior.X_MapCamera;  // pose of the earlier camera in the current one
-    if (params.strategy != MergeStrategy::kNaiveWithoutIcp && !cloud_C.empty() && !frame_cloud_C.empty()) {
-      report.icp = AlignIcp(cloud_C, frame_cloud_C, params.icp);
+    if (params.strategy != MergeStrategy::kNaiveWithoutIcp && !cloud_C.empty() && icp_target.points > 0) {
+      report.icp = AlignIcp(cloud_C, icp_target);
       const double angle = Eigen::AngleAxisd(report.icp.correction.linear()).angle();
       if (report.icp.converged && report.icp.fitness_m2 < report.icp.fitness_before_m2 &&
           report.icp.correction.translation().norm() <= params.max_icp_translation_m && angle <= params.max_icp_rotation_rad) {

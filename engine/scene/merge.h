@@ -2,7 +2,9 @@
 // Merging earlier scene models into a new viewpoint (thesis 3.3.2-3.3.3, Algorithm 2, premises 1-3).
 // Each earlier model's static background is turned into a point cloud, moved into the new camera by the stored
 // poses, refined by ICP against the current frame, rasterised with a z-buffer (nearest wins) and small holes are
-// closed; then the accumulated background S_v (initially the current frame) is refined pixel by pixel. The naive
+// closed; then the accumulated background S_v (initially the current frame) is refined pixel by pixel. The ICP target
+// (the current frame, downsampled, with normals and search tree) is prepared once per merge and shared by every
+// earlier model; only the sources are downsampled per model (registration.h). The naive
 // strategies of the evaluation (transform [+ ICP] + plain Algorithm 1) share the same code path.
 #include <cstdint>
 #include <span>

@@ -8,14 +8,29 @@
 #include <pcl/registration/icp.h>
 #include <pcl/search/kdtree.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 namespace anchordb::engine {
+
+struct IcpTargetData {
+  pcl::PointCloud<pcl::PointNormal>::Ptr cloud;       // downsampled, with valid normals
+  pcl::search::KdTree<pcl::PointNormal>::Ptr tree;    // over `cloud` (x, y, z), shared by every alignment
+};
+
 namespace {
 
-pcl::PointCloud<pcl::PointXYZ>::Ptr ToDownsampledCloud(const std::vector<Eigen::Vector3f>& points, const IcpParams& p) {
+// Range-limited, thinned to at most max_input_points, voxel-downsampled, then evenly subsampled to max_points.
+pcl::PointCloud<pcl::PointXYZ>::Ptr ToDownsampledCloud(const std::vector<Eigen::Vector3f>& points, const IcpParams& p,
+                                                       int max_points) {
   auto raw = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  raw->reserve(points.size());
   const float max_sq = static_cast<float>(p.max_range_m * p.max_range_m);
-  for (const auto& q : points) {
+  const std::size_t stride =
+      p.max_input_points > 0 ? (points.size() + p.max_input_points - 1) / static_cast<std::size_t>(p.max_input_points) : 1;
+  raw->reserve(points.size() / std::max<std::size_t>(stride, 1) + 1);
+  for (std::size_t i = 0; i < points.size(); i += std::max<std::size_t>(stride, 1)) {
+    const auto& q = points[i];
     if (q.squaredNorm() <= max_sq) raw->push_back(pcl::PointXYZ(q.x(), q.y(), q.z()));
   }
   auto voxel = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
@@ -23,68 +38,89 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr ToDownsampledCloud(const std::vector<Eigen::
   grid.setInputCloud(raw);
   grid.setLeafSize(static_cast<float>(p.voxel_m), static_cast<float>(p.voxel_m), static_cast<float>(p.voxel_m));
   grid.filter(*voxel);
-  if (static_cast<int>(voxel->size()) <= p.max_points) return voxel;
+  if (static_cast<int>(voxel->size()) <= max_points) return voxel;
   auto even = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  const double step = static_cast<double>(voxel->size()) / p.max_points;
-  for (int i = 0; i < p.max_points; ++i) even->push_back((*voxel)[static_cast<std::size_t>(i * step)]);
+  const double step = static_cast<double>(voxel->size()) / max_points;
+  for (int i = 0; i < max_points; ++i) even->push_back((*voxel)[static_cast<std::size_t>(i * step)]);
   return even;
 }
 
 }  // namespace
 
-IcpResult AlignIcp(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
-                   const IcpParams& params) {
+IcpTarget PrepareIcpTarget(const std::vector<Eigen::Vector3f>& target, const IcpParams& params) {
+  IcpTarget out;
+  out.params = params;
+  const auto tgt = ToDownsampledCloud(target, params, params.max_points);
+  auto data = std::make_shared<IcpTargetData>();
+  data->cloud = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+  if (tgt->size() >= 10) {
+    // Normals of the target only: point-to-plane ICP measures the residual along the target's normals.
+    pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> estimation;
+    estimation.setInputCloud(tgt);
+    estimation.setSearchMethod(std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
+    estimation.setKSearch(12);
+    pcl::PointCloud<pcl::Normal> normals;
+    estimation.compute(normals);
+    data->cloud->reserve(tgt->size());
+    for (std::size_t i = 0; i < tgt->size(); ++i) {
+      if (!std::isfinite(normals[i].normal_x)) continue;
+      pcl::PointNormal p;
+      p.x = (*tgt)[i].x, p.y = (*tgt)[i].y, p.z = (*tgt)[i].z;
+      p.normal_x = normals[i].normal_x, p.normal_y = normals[i].normal_y, p.normal_z = normals[i].normal_z;
+      p.curvature = normals[i].curvature;
+      data->cloud->push_back(p);
+    }
+  }
+  data->tree = std::make_shared<pcl::search::KdTree<pcl::PointNormal>>();
+  if (!data->cloud->empty()) data->tree->setInputCloud(data->cloud);
+  out.points = data->cloud->size();
+  out.data = std::move(data);
+  return out;
+}
+
+IcpResult AlignIcp(const std::vector<Eigen::Vector3f>& source, const IcpTarget& target) {
+  const IcpParams& params = target.params;
   IcpResult result;
-  const auto src = ToDownsampledCloud(source, params);
-  const auto tgt = ToDownsampledCloud(target, params);
-  result.source_points = src->size();
-  result.target_points = tgt->size();
-  if (src->size() < 10 || tgt->size() < 10) return result;
-  pcl::search::KdTree<pcl::PointXYZ> tree;
-  tree.setInputCloud(tgt);
+  const auto src_xyz = ToDownsampledCloud(source, params, params.max_source_points);
+  result.source_points = src_xyz->size();
+  result.target_points = target.points;
+  if (src_xyz->size() < 10 || target.points < 10 || !target.data) return result;
+  const IcpTargetData& tgt = *target.data;
+  // The source needs no normals (point-to-plane uses the target's); zero normals keep PCL's type uniform.
+  auto src = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+  src->reserve(src_xyz->size());
+  for (const auto& q : *src_xyz) {
+    pcl::PointNormal p;
+    p.x = q.x, p.y = q.y, p.z = q.z;
+    p.normal_x = p.normal_y = p.normal_z = 0.0f, p.curvature = 0.0f;
+    src->push_back(p);
+  }
   // Mean squared distance to the nearest target point over the source points within the correspondence range,
   // for any candidate transform (PCL's own getFitnessScore compares squared distances with an unsquared range).
   const auto fitness = [&](const Eigen::Matrix4f& T) {
-    std::vector<int> index(1);
+    pcl::Indices index(1);
     std::vector<float> d2(1);
     const double max_d2 = params.max_correspondence_m * params.max_correspondence_m;
     double sum = 0;
     std::size_t n = 0;
+    pcl::PointNormal q;
     for (const auto& p : *src) {
-      const Eigen::Vector4f q = T * Eigen::Vector4f(p.x, p.y, p.z, 1.0f);
-      if (tree.nearestKSearch(pcl::PointXYZ(q.x(), q.y(), q.z()), 1, index, d2) > 0 && d2[0] <= max_d2) sum += d2[0], ++n;
+      const Eigen::Vector4f t = T * Eigen::Vector4f(p.x, p.y, p.z, 1.0f);
+      q.x = t.x(), q.y = t.y(), q.z = t.z();
+      if (tgt.tree->nearestKSearch(q, 1, index, d2) > 0 && d2[0] <= max_d2) sum += d2[0], ++n;
     }
     return n ? sum / n : std::numeric_limits<double>::infinity();
   };
   result.fitness_before_m2 = fitness(Eigen::Matrix4f::Identity());
   // Point-to-plane ICP: indoor scenes are mostly planes, along which point-to-point ICP slides. Two passes, the
-  // second with a tighter correspondence range, refine the correction.
-  const auto with_normals = [&](const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud) {
-    pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> estimation;
-    estimation.setInputCloud(cloud);
-    estimation.setSearchMethod(std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
-    estimation.setKSearch(12);
-    pcl::PointCloud<pcl::Normal> normals;
-    estimation.compute(normals);
-    auto out = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
-    for (std::size_t i = 0; i < cloud->size(); ++i) {
-      if (!std::isfinite(normals[i].normal_x)) continue;
-      pcl::PointNormal p;
-      p.x = (*cloud)[i].x, p.y = (*cloud)[i].y, p.z = (*cloud)[i].z;
-      p.normal_x = normals[i].normal_x, p.normal_y = normals[i].normal_y, p.normal_z = normals[i].normal_z;
-      out->push_back(p);
-    }
-    return out;
-  };
-  const auto src_n = with_normals(src);
-  const auto tgt_n = with_normals(tgt);
+  // second with a tighter correspondence range, refine the correction. The target's search tree is reused.
   Eigen::Matrix4f T = Eigen::Matrix4f::Identity();
-  bool converged = src_n->size() >= 10 && tgt_n->size() >= 10;
+  bool converged = true;
   for (double range : {params.max_correspondence_m, params.max_correspondence_m / 3.0}) {
-    if (!converged) break;
     pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> icp;
-    icp.setInputSource(src_n);
-    icp.setInputTarget(tgt_n);
+    icp.setSearchMethodTarget(tgt.tree, /*force_no_recompute=*/true);
+    icp.setInputSource(src);
+    icp.setInputTarget(tgt.cloud);
     icp.setMaxCorrespondenceDistance(range);
     icp.setMaximumIterations(params.max_iterations);
     icp.setTransformationEpsilon(params.transformation_epsilon);
@@ -92,12 +128,18 @@ IcpResult AlignIcp(const std::vector<Eigen::Vector3f>& source, const std::vector
     pcl::PointCloud<pcl::PointNormal> aligned;
     icp.align(aligned, T);
     converged = icp.hasConverged();
-    if (converged) T = icp.getFinalTransformation();
+    if (!converged) break;
+    T = icp.getFinalTransformation();
   }
   result.converged = converged;
   result.fitness_m2 = fitness(T);
   result.correction.matrix() = T.cast<double>();
   return result;
+}
+
+IcpResult AlignIcp(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
+                   const IcpParams& params) {
+  return AlignIcp(source, PrepareIcpTarget(target, params));
 }
 
 }  // namespace anchordb::engine

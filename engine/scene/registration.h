@@ -1,7 +1,10 @@
 #pragma once
 // Point-cloud registration (ICP, PCL) behind plain Eigen types: the only engine interface that PCL sits behind.
+// PCL's types stay in registration.cc; a prepared target is an opaque handle.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cstddef>
+#include <memory>
 #include <vector>
 
 namespace anchordb::engine {
@@ -12,7 +15,13 @@ struct IcpParams {
   int max_iterations = 40;
   double transformation_epsilon = 1e-8;     // stop when the transform changes less than this (squared)
   double fitness_epsilon = 1e-7;            // stop when the mean squared error changes less than this
-  int max_points = 6000;                    // after downsampling, clouds are subsampled evenly to at most this
+  int max_points = 6000;                    // after downsampling, the target is subsampled evenly to at most this
+  int max_source_points = 3000;             // and a source to at most this: every ICP iteration and the fitness
+                                            // checks cost one nearest-neighbour search per source point, while the
+                                            // target's size only deepens its search tree
+  int max_input_points = 80000;             // a cloud is thinned evenly to at most this before the voxel grid (a
+                                            // 640x480 image has ~300k points; a 3 cm voxel at 1-4 m still holds
+                                            // several of the remaining ones, so only the centroids get noisier)
   double max_range_m = 4.0;                 // points farther from the origin (the current camera) are left out: a
                                             // structured-light sensor's far range is too noisy to register against
 };
@@ -26,7 +35,23 @@ struct IcpResult {
   std::size_t target_points = 0;
 };
 
-// Aligns `source` to `target` (both in one frame) starting from the identity.
+struct IcpTargetData;  // PCL clouds with normals and search trees (defined in registration.cc)
+
+// A target cloud made ready for ICP once (downsampled, normals estimated, search trees built), to align any number
+// of source clouds against it: the merge registers every earlier model against the same current frame.
+// Cheap to copy (shared, immutable).
+struct IcpTarget {
+  std::shared_ptr<const IcpTargetData> data;
+  IcpParams params;         // the parameters it was prepared with (also used for the sources aligned to it)
+  std::size_t points = 0;   // after downsampling, with a valid normal
+};
+
+IcpTarget PrepareIcpTarget(const std::vector<Eigen::Vector3f>& target, const IcpParams& params);
+
+// Aligns `source` to a prepared target (both in one frame) starting from the identity, with the target's params.
+IcpResult AlignIcp(const std::vector<Eigen::Vector3f>& source, const IcpTarget& target);
+
+// The same for a one-off target (prepares it, then aligns).
 IcpResult AlignIcp(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
                    const IcpParams& params);
 
