@@ -323,7 +323,7 @@ Json EventService::Where(const std::string& map, const std::string& raw_label, s
   out["placement"] = place ? *place : Json(nullptr);
   const bool present = out["present"].get<bool>();
   out["sentence"] = present ? "The " + label + (at_ns ? " were " : " are ") + where + "."
-                            : "The " + label + " were taken from " + where + " and have not been seen since.";
+                            : "The " + label + " were last seen " + where + "; they were taken away and have not been seen since.";
   return out;
 }
 

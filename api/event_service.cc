@@ -123,7 +123,10 @@ Json EventService::AddedObject(storage::Connection& c, const std::string& map, c
   std::optional<storage::InstanceRecord> moved;
   double best_similarity = settings_.move_min_size_similarity;
   std::optional<storage::HistoryRecord> removal;
-  for (auto& r : storage::ListInstances(c, map, absent, false)) {
+  // Only an addition seen being made continues a labelled removal: the person observed taking the object is the one
+  // observed bringing one (3.5.3); an object that appeared while nobody watched is not taken for it. Size only
+  // vetoes clearly different objects (partial views make extents uncertain).
+  for (auto& r : detection == "observed" ? storage::ListInstances(c, map, absent, false) : std::vector<storage::InstanceRecord>{}) {
     if (r.status_locked || Json::parse(r.labels_json).empty()) continue;
     const auto history = storage::ListHistory(c, r.id);
     if (history.empty() || history.back().present || history.back().stamp_ns > stamp_ns) continue;
@@ -152,7 +155,7 @@ Json EventService::AddedObject(storage::Connection& c, const std::string& map, c
     e.explanation = "inferred move (lost-key rule, thesis 3.3.4): '" + top + "' (instance " + std::to_string(r.id) +
                     ") was removed from " + Position(Vec(removal->position)) +
                     " and has not been seen since; this object was added at " + Position(s.centroid_m) +
-                    " without a new label and is of similar size (similarity " + Fixed(best_similarity) + ")";
+                    " by an observed action, without a new label, and is of compatible size (similarity " + Fixed(best_similarity) + ")";
     details["from_m"] = {removal->position[0], removal->position[1], removal->position[2]};
     details["size_similarity"] = best_similarity;
     details["removal_event"] = removal->event_id ? Json(*removal->event_id) : Json(nullptr);

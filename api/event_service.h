@@ -8,7 +8,7 @@
 // - every later keyframe (manual, settled, end) closes an action layer: comparing it with the keyframe that opened
 //   the layer, against the newer background, gives what was added and removed while observing.
 // Movable points are clustered in 3D (engine/events/segments.h) and matched to instances by position and size.
-// Lost-key rule: an unlabelled addition of an object of similar size after the removal of a labelled object is that
+// Lost-key rule: an unlabelled addition observed after the removal of a labelled object, of compatible size, is that
 // object, moved; the event says so and why. Operator edits (relabel, delete, pin) are locked against automatic
 // processing.
 #include <mutex>
@@ -25,7 +25,7 @@ namespace anchordb::api {
 struct EventSettings {
   engine::ChangeParams change;
   engine::MatchParams match;
-  double move_min_size_similarity = 0.6;   // lost-key rule: the addition must be this similar in size
+  double move_min_size_similarity = 0.45;  // lost-key rule: a less similar addition is another object
   double removed_min_seen_through = 0.6;   // fraction of an instance's visible points seen through -> removed
   int removed_min_visible_points = 20;     // fewer visible points prove nothing
   std::size_t max_label_length = 64;

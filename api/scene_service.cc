@@ -266,9 +266,9 @@ Json SceneService::StoreKeyframe(Model& m, const std::string& kind, std::int64_t
     n.stamp_ns = stamp_ns;
     n.action_layer = k.action_layer;
     n.K = m.K;
-    n.X_MapCamera = engine::ToIsometry(json::AsPose3(Json::parse(m.record.pose_json), "pose"));
     n.beta = m.params.beta;
     const Json report = Json::parse(m.record.merge_report_json);
+    n.X_MapCamera = engine::ToIsometry(json::AsPose3(report.contains("pose_corrected") ? report["pose_corrected"] : Json::parse(m.record.pose_json), "pose"));
     for (const Json& used : report.value("models_used", Json::array())) n.merged_scenes.push_back(used.at("scene").get<std::int64_t>());
     n.depth_mm = &m.last_depth_mm;
     n.background_mm = &background_mm;
@@ -573,6 +573,19 @@ void SceneService::MergeFirstFrame(Model& m, const std::vector<std::uint16_t>& d
                                 {"filled_unknown", r.filled_unknown}, {"rejected_fov", r.rejected_fov},
                                 {"rejected_occlusion", r.rejected_occlusion},
                                 {"rejected_neighbourhood", r.rejected_neighbourhood}}}});
+  }
+  // The registration also localises this camera against the earlier models: the best applied ICP correction gives
+  // the pose the segments of this model are placed with (X_MC_corrected = X_MC * correction^-1).
+  const engine::MergeModelReport* best_icp = nullptr;
+  for (const auto& r : result.models) {
+    if (r.icp_applied && (!best_icp || r.icp.fitness_m2 < best_icp->icp.fitness_m2)) best_icp = &r;
+  }
+  if (best_icp) {
+    const Eigen::Isometry3d corrected = X_MC * best_icp->icp.correction.inverse();
+    const Eigen::Quaterniond q(corrected.linear());
+    report["pose_corrected"] = {{"position", {corrected.translation().x(), corrected.translation().y(), corrected.translation().z()}},
+                                {"orientation", {q.x(), q.y(), q.z(), q.w()}}};
+    report["pose_corrected_by_scene"] = best_icp->id;
   }
   report["performed"] = true;
   report["pending"] = false;

@@ -140,9 +140,9 @@ double SizeSimilarity(const Eigen::Vector3d& extent_a_m, const Eigen::Vector3d& 
   std::array<double, 3> b = {std::max(extent_b_m.x(), 0.01), std::max(extent_b_m.y(), 0.01), std::max(extent_b_m.z(), 0.01)};
   std::sort(a.begin(), a.end());
   std::sort(b.begin(), b.end());
-  double sum = 0;
-  for (int k = 0; k < 3; ++k) sum += std::min(a[k], b[k]) / std::max(a[k], b[k]);
-  return sum / 3.0;
+  double product = 1.0;
+  for (int k = 0; k < 3; ++k) product *= std::min(a[k], b[k]) / std::max(a[k], b[k]);
+  return std::cbrt(product);
 }
 
 }  // namespace anchordb::engine

@@ -70,7 +70,8 @@ struct MatchParams {
 double MatchDistance(const Segment& s, const Eigen::Vector3d& centroid_m, const Eigen::Vector3d& extent_m);
 bool Matches(const Segment& s, const Eigen::Vector3d& centroid_m, const Eigen::Vector3d& extent_m, const MatchParams& p);
 
-// Size similarity in [0, 1] of two bounding boxes (sorted side lengths compared pairwise: min/max ratio, averaged),
+// Size similarity in [0, 1] of two bounding boxes (sorted side lengths compared pairwise: the geometric mean of the
+// min/max ratios, so one very different side is enough to tell two objects apart),
 // the cue the lost-key rule uses to tell whether an addition can be the removed object.
 double SizeSimilarity(const Eigen::Vector3d& extent_a_m, const Eigen::Vector3d& extent_b_m);
 

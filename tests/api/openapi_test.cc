@@ -18,7 +18,9 @@ TEST(OpenApiTest, DocumentMatchesRouteTable) {
   GridService service(store, {}, {});
   SceneService scenes(store, {});
   FurnitureService furniture(store, {});
-  HttpApi api(service, scenes, furniture, {});
+  EventService events(store, &furniture, {});
+  JobService jobs(store);
+  HttpApi api(service, scenes, furniture, events, jobs, {});
   const Json doc = Json::parse(HttpApi::OpenApiDocument());
   ASSERT_TRUE(doc.contains("paths"));
   std::set<std::string> registered, documented;
