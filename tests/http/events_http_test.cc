@@ -1,0 +1,188 @@
+// Change events, the lost-key rule, past-time where-is, operator edits, re-analysis of old keyframes and bad input,
+// over real HTTP on loopback (the anchordb binary, a SQLite file) with rendered depth frames.
+#include "api/http_api.h"  // Eigen before httplib (see api/http_api.h)
+#include "sim/apartment.h"
+#include "sim/lost_key_scenario.h"
+#include "sim/renderer.h"
+#include "tests/support/server_process.h"
+#include "tests/support/temp_dir.h"
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+
+#include <nlohmann/json.hpp>
+
+namespace anchordb {
+namespace {
+
+using nlohmann::json;
+
+class EventsHttpTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    server_ = std::make_unique<testing::ServerProcess>(dir_.File("events.sqlite"));
+    client_ = std::make_unique<httplib::Client>("127.0.0.1", server_->port());
+    client_->set_read_timeout(60, 0);
+  }
+  std::pair<int, json> Call(const std::string& method, const std::string& path, const std::string& body = "{}") {
+    httplib::Result r = method == "GET" ? client_->Get(path) : method == "DELETE" ? client_->Delete(path)
+                                                                : client_->Post(path, body, "application/json");
+    EXPECT_TRUE(r) << method << " " << path;
+    if (!r) return {0, json()};
+    return {r->status, json::parse(r->body, nullptr, false)};
+  }
+  json Ok(const std::string& method, const std::string& path, const std::string& body = "{}", int status = 200) {
+    auto [code, j] = Call(method, path, body);
+    EXPECT_EQ(code, status) << method << " " << path << " " << j.dump();
+    return j;
+  }
+
+  testing::TempDir dir_;
+  std::unique_ptr<testing::ServerProcess> server_;
+  std::unique_ptr<httplib::Client> client_;
+};
+
+TEST_F(EventsHttpTest, LostKeyMoveIsInferredPastStateAnsweredAndOperatorRelabelSurvivesLaterProcessing) {
+  sim::LostKeyOptions o;
+  o.seed = 10;
+  const sim::LostKeyResult result = sim::RunLostKeyScenario(*client_, o);
+  // The move inference: the labelled removal at B continued by the observed addition at A.
+  const json* moved = nullptr;
+  for (const json& e : result.events) if (e["type"] == "moved") moved = &e;
+  ASSERT_NE(moved, nullptr) << result.events.dump(1);
+  EXPECT_EQ((*moved)["label"], "keys");
+  EXPECT_NE((*moved)["explanation"].get<std::string>().find("lost-key rule"), std::string::npos);
+  const std::int64_t keys = (*moved)["instance"].get<std::int64_t>();
+  // Where now: on the table at A, with evidence keyframes that exist.
+  ASSERT_TRUE(result.where.value("present", false)) << result.where.dump();
+  EXPECT_NE(result.where["sentence"].get<std::string>().find("on the table"), std::string::npos) << result.where.dump();
+  const auto p = result.where["position_m"];
+  EXPECT_LT((Eigen::Vector3d(p[0], p[1], p[2]) - result.keys_true_m).norm(), 0.15);
+  ASSERT_FALSE(result.where["evidence"].empty());
+  for (const json& k : result.where["evidence"]) Ok("GET", "/v1/maps/home/keyframes/" + std::to_string(k["keyframe"].get<std::int64_t>()));
+  // Where at a time between taking and bringing: last seen on the shelf, gone.
+  EXPECT_FALSE(result.past_where.value("present", true)) << result.past_where.dump();
+  EXPECT_NE(result.past_where["sentence"].get<std::string>().find("shelf"), std::string::npos);
+  // History: present at B, absent from B, present at A.
+  const json history = Ok("GET", "/v1/maps/home/instances/" + std::to_string(keys) + "/history")["history"];
+  ASSERT_GE(history.size(), 3u);
+  EXPECT_TRUE(history.back()["present"].get<bool>());
+
+  // An operator relabels; dialog may not change it, and a later visit with new events leaves it alone.
+  Ok("POST", "/v1/maps/home/instances/" + std::to_string(keys) + ":label", R"({"label":"Car  Keys","source":"operator"})");
+  auto [status, refused] = Call("POST", "/v1/maps/home/instances/" + std::to_string(keys) + ":label", R"({"label":"wallet"})");
+  EXPECT_EQ(status, 409) << refused.dump();
+  sim::LostKeyOptions again = o;
+  again.seed = 11;
+  again.map = "home";
+  again.create_map = false;
+  again.start_ns = o.start_ns + 3'600'000'000'000LL;
+  sim::RunLostKeyScenario(*client_, again);  // more events in the same map, another labelled removal and move
+  const json instance = Ok("GET", "/v1/maps/home/instances/" + std::to_string(keys));
+  EXPECT_EQ(instance["labels"], json({{"car keys", 1.0}}));
+  EXPECT_TRUE(instance["label_locked"].get<bool>());
+  const json where = Ok("GET", "/v1/maps/home/where?label=car%20keys");
+  EXPECT_EQ(where["instance"], keys);
+
+  // An operator deletes an instance: it stays deleted.
+  Ok("DELETE", "/v1/maps/home/instances/" + std::to_string(keys));
+  EXPECT_EQ(Ok("GET", "/v1/maps/home/instances/" + std::to_string(keys))["status"], "deleted");
+  EXPECT_EQ(Call("POST", "/v1/maps/home/instances/" + std::to_string(keys) + ":label", R"({"label":"keys"})").first, 409);
+}
+
+TEST_F(EventsHttpTest, ReanalysisOfAnOldKeyframeFindsAnObjectThatWasBackgroundThen) {
+  Ok("POST", "/v1/maps", R"({"id":"home","name":"flat"})", 201);
+  sim::SettingScene s = sim::MakeSetting(sim::Setting::kTA, 4);
+  const PinholeIntrinsics K = sim::KinectIntrinsics();
+  const int box = s.movable_ids.at(1);
+  const Eigen::Vector3d box_centre = [&] {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (const auto& prim : s.scene.primitives) if (prim.object_id == box) c += prim.X_WorldPrim.translation(), ++n;
+    return Eigen::Vector3d(c / n);
+  }();
+  const Eigen::Quaterniond q(s.X_WorldCameraA.linear());
+  const json pose = {{"position", {s.X_WorldCameraA.translation().x(), s.X_WorldCameraA.translation().y(), s.X_WorldCameraA.translation().z()}},
+                     {"orientation", {q.x(), q.y(), q.z(), q.w()}}};
+  const json camera = {{"width", K.width}, {"height", K.height}, {"fx", K.fx}, {"fy", K.fy}, {"cx", K.cx}, {"cy", K.cy}};
+  std::int64_t first_begin = 0;
+  for (int visit = 0; visit < 2; ++visit) {
+    sim::Scene scene = s.scene;
+    if (visit == 1) sim::RemoveObject(scene, box);  // gone before the second visit: nobody saw it go
+    const json opened = Ok("POST", "/v1/maps/home/scenes",
+                           json({{"camera", camera}, {"pose", pose}, {"stamp", 1'000'000'000'000LL * (visit + 1)}}).dump(), 201);
+    const std::string base = "/v1/maps/home/scenes/" + std::to_string(opened["id"].get<std::int64_t>());
+    for (int i = 0; i < 6; ++i) {
+      const sim::Frame f = sim::Render(scene, K, s.X_WorldCameraA, sim::SensorModel{}, 77 + visit * 10 + i);
+      auto r = client_->Post(base + "/frames?stamp=" + std::to_string(1'000'000'000'000LL * (visit + 1) + i * 33'000'000LL),
+                             std::string(reinterpret_cast<const char*>(f.depth_mm.data()), f.depth_mm.size() * 2), "application/octet-stream");
+      ASSERT_TRUE(r && r->status == 200) << (r ? r->body : "");
+      if (visit == 0 && i == 0) first_begin = json::parse(r->body)["keyframe"].get<std::int64_t>();
+    }
+    Ok("POST", base + ":close");
+  }
+  // Nothing was seen to change: no events yet.
+  EXPECT_TRUE(Ok("GET", "/v1/maps/home/events")["events"].empty());
+  const json re = Ok("POST", "/v1/maps/home/keyframes/" + std::to_string(first_begin) + ":reanalyse");
+  bool found = false;
+  for (const json& e : re["events"]) {
+    if (e["type"] != "removed") continue;
+    const auto c = e["details"]["segment"]["centroid_m"];
+    found = found || (Eigen::Vector3d(c[0], c[1], c[2]) - box_centre).norm() < 0.12;
+    EXPECT_EQ(e["detection"], "reanalysis");
+  }
+  EXPECT_TRUE(found) << re.dump(1);
+  EXPECT_FALSE(Ok("GET", "/v1/maps/home/events?type=removed")["events"].empty());
+}
+
+TEST_F(EventsHttpTest, BadInputIsRefusedWithClearErrorsAndChangesNothing) {
+  Ok("POST", "/v1/maps", R"({"id":"home","name":"flat"})", 201);
+  const json table = Ok("POST", "/v1/maps/home/instances", R"({"kind":"object","label":"cup","position":[1,2,0.8]})", 201);
+  const std::string id = std::to_string(table["id"].get<std::int64_t>());
+  const auto snapshot = [&] { return Ok("GET", "/v1/maps/home/events").dump() + Ok("GET", "/v1/maps/home/instances").dump(); };
+  const std::string before = snapshot();
+  const struct {
+    std::string method, path, body;
+    int status;
+    std::string field;
+  } cases[] = {
+      {"POST", "/v1/maps/home/events/999:label", R"({"label":"keys"})", 404, "event"},
+      {"POST", "/v1/maps/home/events/abc:label", R"({"label":"keys"})", 404, "event"},
+      {"POST", "/v1/maps/home/instances/" + id + ":label", R"({"label":""})", 422, "label"},
+      {"POST", "/v1/maps/home/instances/" + id + ":label", R"({"label":"   "})", 422, "label"},
+      {"POST", "/v1/maps/home/instances/" + id + ":label", R"({"label":7})", 400, "label"},
+      {"POST", "/v1/maps/home/instances/" + id + ":label", R"({"label":"keys","source":"robot"})", 400, "source"},
+      {"POST", "/v1/maps/home/instances/" + id + ":label", R"({"label":"keys","colour":"red"})", 400, ""},
+      {"POST", "/v1/maps/home/instances/" + id + ":label", R"({"label":"keys")", 400, ""},
+      {"POST", "/v1/maps/home/instances/424242:label", R"({"label":"keys"})", 404, "instance"},
+      {"GET", "/v1/maps/home/where?label=cup&at=99999999999999999", "", 422, "at"},
+      {"GET", "/v1/maps/home/where?label=cup&at=2999-01-01T00:00:00Z", "", 422, "at"},
+      {"GET", "/v1/maps/home/where?label=cup&at=yesterday", "", 400, "at"},
+      {"GET", "/v1/maps/home/where", "", 400, "label"},
+      {"GET", "/v1/maps/home/where?label=", "", 422, "label"},
+      {"GET", "/v1/maps/home/where?label=unicorn", "", 404, "label"},
+      {"GET", "/v1/maps/nowhere/where?label=cup", "", 404, "map"},
+      {"GET", "/v1/maps/home/events?type=exploded", "", 400, "type"},
+      {"GET", "/v1/maps/home/events?limit=0", "", 422, "limit"},
+      {"GET", "/v1/maps/home/events?since=soon", "", 400, "since"},
+      {"GET", "/v1/maps/home/instances?status=lost", "", 400, "status"},
+      {"POST", "/v1/maps/home/instances", R"({"label":"table","position":[1,2]})", 400, "position"},
+      {"POST", "/v1/maps/home/instances", R"({"label":"table","position":[1,2,3],"extent":[-1,1,1]})", 422, "extent"},
+      {"POST", "/v1/maps/home/keyframes/5:reanalyse", "{}", 404, "keyframe"},
+      {"POST", "/v1/maps/home/keyframes/5:score", R"({"relevance":2})", 422, "relevance"},
+  };
+  for (const auto& c : cases) {
+    auto [status, body] = Call(c.method, c.path, c.body);
+    EXPECT_EQ(status, c.status) << c.method << " " << c.path << " " << c.body << " -> " << body.dump();
+    ASSERT_TRUE(body.contains("error")) << c.path;
+    EXPECT_FALSE(body["error"].value("message", "").empty());
+    if (!c.field.empty()) EXPECT_EQ(body["error"].value("field", ""), c.field) << c.path << " " << body.dump();
+  }
+  EXPECT_EQ(snapshot(), before);
+  // The same label request, valid, works afterwards.
+  Ok("POST", "/v1/maps/home/instances/" + id + ":label", R"({"label":"Coffee Cup"})");
+  EXPECT_EQ(Ok("GET", "/v1/maps/home/where?label=coffee%20cup")["instance"], table["id"]);
+}
+
+}  // namespace
+}  // namespace anchordb
