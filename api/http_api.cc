@@ -60,12 +60,13 @@ const std::string& PathParams::operator[](const std::string& name) const {
 }
 
 HttpApi::HttpApi(GridService& grid, SceneService& scenes, FurnitureService& furniture, EventService& events,
-                 HttpOptions options)
-    : service_(grid), scenes_(scenes), furniture_(furniture), events_(events), options_(std::move(options)) {
+                 JobService& jobs, HttpOptions options)
+    : service_(grid), scenes_(scenes), furniture_(furniture), events_(events), jobs_(jobs), options_(std::move(options)) {
   AddRoutes();
   AddSceneRoutes();
   AddFurnitureRoutes();
   AddEventRoutes();
+  AddJobRoutes();
 }
 
 void HttpApi::Add(std::string method, std::string pattern, Role role, std::string summary, Handler handler) {

@@ -6,6 +6,7 @@
 #include "api/event_service.h"
 #include "api/furniture_service.h"
 #include "api/grid_service.h"
+#include "api/job_service.h"
 #include "api/metrics.h"
 #include "api/scene_service.h"
 #include "schema/error.h"
@@ -65,7 +66,8 @@ struct HttpOptions {
 
 class HttpApi {
  public:
-  HttpApi(GridService& grid, SceneService& scenes, FurnitureService& furniture, EventService& events, HttpOptions options);
+  HttpApi(GridService& grid, SceneService& scenes, FurnitureService& furniture, EventService& events, JobService& jobs,
+          HttpOptions options);
 
   const std::vector<Route>& routes() const { return routes_; }
   Metrics& metrics() { return metrics_; }
@@ -80,6 +82,7 @@ class HttpApi {
   void AddSceneRoutes();
   void AddFurnitureRoutes();
   void AddEventRoutes();
+  void AddJobRoutes();  // api/job_routes.cc
   void Add(std::string method, std::string pattern, Role role, std::string summary, Handler handler);
   void Dispatch(const Route& route, const std::vector<std::string>& names, const httplib::Request& req,
                 httplib::Response& res);
@@ -88,6 +91,7 @@ class HttpApi {
   SceneService& scenes_;
   FurnitureService& furniture_;
   EventService& events_;
+  JobService& jobs_;
   HttpOptions options_;
   Metrics metrics_;
   std::vector<Route> routes_;

@@ -1,4 +1,4 @@
-// anchordb: the spatial memory server. Subcommands: serve, token create, version.
+// anchordb: the spatial memory server. Subcommands: serve, token create, forget, version.
 #include <signal.h>
 
 #include <chrono>
@@ -11,9 +11,11 @@
 
 #include "api/grid_service.h"
 #include "api/http_api.h"
+#include "api/job_service.h"
 #include "schema/error.h"
 #include "server/auth.h"
 #include "server/config.h"
+#include "storage/forgetting.h"
 #include "storage/repositories.h"
 #include "storage/store.h"
 
@@ -149,7 +151,13 @@ int Serve(const Config& config) {
   if (config.log_requests) options.log = Log;
   options.settings = [config] { return SettingsJson(config); };
   options.max_body_bytes = static_cast<std::size_t>(config.max_body_bytes);
-  api::HttpApi http(service, scenes, furniture, events, options);
+  api::JobSettings job_settings;
+  job_settings.synchronous = config.synchronous;
+  api::JobService jobs(store, job_settings);
+  if (jobs.interrupted_at_start() > 0) {
+    Log("jobs interrupted by the previous stop, marked failed: " + std::to_string(jobs.interrupted_at_start()));
+  }
+  api::HttpApi http(service, scenes, furniture, events, jobs, options);
 
   httplib::Server server;
   const int threads = config.threads;
@@ -185,10 +193,61 @@ int Serve(const Config& config) {
   return ok ? 0 : 1;
 }
 
+// anchordb forget --db FILE --map ID [--policy JSON] [--dry-run] [--vacuum]: one forgetting run (for cron); prints
+// the report as JSON. Bad input: exit 2 with the error on stderr.
+int Forget(const std::vector<std::string>& args) {
+  std::string map, policy_text;
+  bool dry_run = false, vacuum = false;
+  std::vector<std::string> rest;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if ((a == "--map" || a == "--policy") && i + 1 >= args.size()) throw std::invalid_argument(a + " needs a value");
+    if (a == "--map") map = args[++i];
+    else if (a.rfind("--map=", 0) == 0) map = a.substr(6);
+    else if (a == "--policy") policy_text = args[++i];
+    else if (a.rfind("--policy=", 0) == 0) policy_text = a.substr(9);
+    else if (a == "--dry-run") dry_run = true;
+    else if (a == "--vacuum") vacuum = true;
+    else rest.push_back(a);
+  }
+  if (map.empty()) throw std::invalid_argument("forget needs --map ID");
+  const Config config = LoadConfig(rest, Environment());
+  try {
+    json::CheckId(map, "map");
+  } catch (const Error& e) {
+    throw std::invalid_argument(std::string("--map: ") + e.what());
+  }
+  storage::ForgetRequest request;
+  try {
+    json::Json body = json::Json::object();
+    if (!policy_text.empty()) body["policy"] = json::ParseObject(policy_text);
+    body["dry_run"] = dry_run;
+    request = storage::ParseForgetRequest(body);
+    if (vacuum) request.policy.vacuum = true;
+  } catch (const Error& e) {
+    throw std::invalid_argument(std::string("--policy: ") + e.what());
+  }
+  const storage::StoreOptions options = StoreOptionsOf(config);
+  storage::Store store(options);  // migrates the file first
+  storage::Connection connection(config.db, options.connection);
+  const std::int64_t now_ns =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+  storage::ForgetReport report;
+  try {
+    report = storage::Forget(connection, map, request.policy, now_ns, request.dry_run);
+  } catch (const Error& e) {
+    if (e.code() == ErrorCode::kNotFound) throw std::invalid_argument(e.what());
+    throw;
+  }
+  std::cout << report.ToJson().dump(1) << "\n";
+  return 0;
+}
+
 void Usage() {
   std::cout << "usage:\n"
                "  anchordb serve [--config file.json] [--<setting>=<value> ...]\n"
                "  anchordb token create --role reader|writer|admin [--db file]\n"
+               "  anchordb forget --db file --map ID [--policy JSON] [--dry-run] [--vacuum]\n"
                "  anchordb version\n\nsettings (also ANCHORDB_<NAME> environment variables):\n"
             << SettingsHelp();
 }
@@ -211,6 +270,7 @@ int Main(int argc, char** argv) {
       }
       return Serve(LoadConfig(rest, Environment()));
     }
+    if (args[0] == "forget") return Forget(std::vector<std::string>(args.begin() + 1, args.end()));
     if (args.size() >= 2 && args[0] == "token" && args[1] == "create") {
       std::string role;
       std::vector<std::string> rest;

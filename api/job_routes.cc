@@ -1,0 +1,24 @@
+// Routes of long work (SPEC §5: long work returns 202 with a job; GET /v1/jobs/{id} shows progress and result).
+#include "api/job_service.h"
+#include "api/route_params.h"
+
+namespace anchordb::api {
+
+using namespace params;
+
+void HttpApi::AddJobRoutes() {
+  JobService& j = jobs_;
+  Add("POST", "/v1/maps/{map}:forget", Role::kAdmin,
+      "Forgetting as a job ({\"policy\": {superseded_models, keyframe_max_age_s, keep_relevance_at_least, "
+      "event_max_age_s, vacuum}, \"dry_run\"}); 202 with the job",
+      [&j](const httplib::Request& req, const PathParams& p) {
+        const Json job = j.SubmitForget(p["map"], BodyObject(req));
+        Response r = JsonResponse(job, 202);
+        r.headers["Location"] = "/v1/jobs/" + std::to_string(job["job"].get<std::int64_t>());
+        return r;
+      });
+  Add("GET", "/v1/jobs/{job}", Role::kReader, "A job: status, stage, progress, request, result, error",
+      [&j](const httplib::Request&, const PathParams& p) { return JsonResponse(j.Get(PathId(p, "job", "job"))); });
+}
+
+}  // namespace anchordb::api

@@ -1,0 +1,369 @@
+#include "storage/forgetting.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include "schema/error.h"
+#include "schema/json_io.h"
+#include "storage/repositories.h"
+
+namespace anchordb::storage {
+namespace {
+
+using Json = nlohmann::json;
+
+constexpr double kMaxAgeS = 100.0 * 365.25 * 86400.0;  // keeps now - age representable in int64 nanoseconds
+
+std::optional<double> ParseAge(const Json& policy, const std::string& key, std::optional<double> fallback) {
+  auto it = policy.find(key);
+  if (it == policy.end()) return fallback;
+  if (it->is_null()) return std::nullopt;  // explicitly: never expire
+  const std::string field = "policy." + key;
+  const double v = json::AsFiniteNumber(*it, field);
+  if (v < 0) throw Error(ErrorCode::kUnprocessable, field + " must not be negative (seconds)", field);
+  if (v > kMaxAgeS) throw Error(ErrorCode::kUnprocessable, field + " must be at most 100 years in seconds", field);
+  return v;
+}
+
+std::int64_t PragmaInt(Connection& c, const char* sql) {
+  Statement s(c, sql);
+  return s.Step() ? s.Int(0) : 0;
+}
+
+std::int64_t CutoffNs(std::int64_t now_ns, double age_s) {
+  const long double cutoff = static_cast<long double>(now_ns) - static_cast<long double>(age_s) * 1e9L;
+  if (cutoff <= static_cast<long double>(std::numeric_limits<std::int64_t>::min())) {
+    return std::numeric_limits<std::int64_t>::min();
+  }
+  return static_cast<std::int64_t>(cutoff);
+}
+
+std::vector<std::int64_t> Ids(Statement& s) {
+  std::vector<std::int64_t> ids;
+  while (s.Step()) ids.push_back(s.Int(0));
+  return ids;
+}
+
+std::int64_t SumBytes(Connection& c, const std::string& sql, std::int64_t id) {
+  Statement s(c, sql);
+  s.Bind(1, id);
+  return s.Step() ? s.Int(0) : 0;
+}
+
+// Reports a stage's progress every `every` items (the callback may throw to abort).
+class Stage {
+ public:
+  Stage(const ForgetProgress& progress, std::string_view name, double from, double to, std::size_t total)
+      : progress_(progress), name_(name), from_(from), to_(to), total_(total) {
+    if (progress_) progress_(name_, from_);
+  }
+  void Step(std::size_t done) {
+    if (progress_ && total_ > 0 && (done % 64 == 0 || done == total_)) {
+      progress_(name_, from_ + (to_ - from_) * static_cast<double>(done) / static_cast<double>(total_));
+    }
+  }
+
+ private:
+  const ForgetProgress& progress_;
+  std::string_view name_;
+  double from_, to_;
+  std::size_t total_;
+};
+
+Json IdList(const std::vector<std::int64_t>& ids) { return Json(ids); }
+
+// 1. Superseded models whose superseder is stored and whose observation ended: drop the state blobs.
+void DropSupersededState(Connection& c, ForgetReport& r, const ForgetProgress& progress) {
+  Statement select(c,
+                   "SELECT m.id FROM scene_models m WHERE m.map_id = ? AND m.status = 'superseded' "
+                   "AND m.ended_ns IS NOT NULL AND m.superseded_by IS NOT NULL "
+                   "AND EXISTS (SELECT 1 FROM scene_models s WHERE s.id = m.superseded_by) "
+                   "AND (m.background IS NOT NULL OR m.weight IS NOT NULL OR m.labels IS NOT NULL) ORDER BY m.id");
+  select.Bind(1, r.map_id);
+  const std::vector<std::int64_t> ids = Ids(select);
+  Stage stage(progress, "models", 0.0, 0.1, ids.size());
+  std::size_t done = 0;
+  for (std::int64_t id : ids) {
+    r.bytes_freed_estimate += SumBytes(
+        c, "SELECT coalesce(length(background), 0) + coalesce(length(weight), 0) + coalesce(length(labels), 0) "
+           "FROM scene_models WHERE id = ?", id);
+    Statement u(c, "UPDATE scene_models SET background = NULL, weight = NULL, labels = NULL, state_version = 0, "
+                   "forgotten_ns = ? WHERE id = ?");
+    u.Bind(1, r.now_ns).Bind(2, id).Run();
+    r.models_state_dropped.push_back(id);
+    stage.Step(++done);
+  }
+}
+
+// 2. Old events nobody needs.
+void DeleteEvents(Connection& c, ForgetReport& r, std::int64_t cutoff, const ForgetProgress& progress) {
+  // Latest event of an instance: the greatest (stamp_ns, id) among its events.
+  const char* kSelect =
+      "SELECT e.id, e.pinned, e.type = 'labelled', coalesce(i.pinned, 0), "
+      "  e.instance_id IS NOT NULL AND e.id = (SELECT l.id FROM events l WHERE l.instance_id = e.instance_id "
+      "                                        ORDER BY l.stamp_ns DESC, l.id DESC LIMIT 1) "
+      "FROM events e LEFT JOIN instances i ON i.id = e.instance_id "
+      "WHERE e.map_id = ? AND e.stamp_ns < ? ORDER BY e.id";
+  Statement select(c, kSelect);
+  select.Bind(1, r.map_id).Bind(2, cutoff);
+  std::vector<std::int64_t> ids;
+  while (select.Step()) {
+    if (select.Int(1)) ++r.events_kept_pinned;
+    else if (select.Int(2)) ++r.events_kept_labelled;
+    else if (select.Int(3)) ++r.events_kept_pinned_instance;
+    else if (select.Int(4)) ++r.events_kept_latest;
+    else ids.push_back(select.Int(0));
+  }
+  Stage stage(progress, "events", 0.1, 0.3, ids.size());
+  std::size_t done = 0;
+  for (std::int64_t id : ids) {
+    r.bytes_freed_estimate += SumBytes(
+        c, "SELECT length(details) + length(explanation) + coalesce(length(label), 0) + 64 + "
+           "(SELECT 24 * count(*) FROM event_evidence WHERE event_id = ?1) FROM events WHERE id = ?1", id);
+    Statement d(c, "DELETE FROM events WHERE id = ?");  // evidence cascades; instance_history.event_id -> NULL
+    d.Bind(1, id).Run();
+    r.events_deleted.push_back(id);
+    stage.Step(++done);
+  }
+}
+
+// 3. Old keyframes nobody needs, and their segments that no event uses.
+void DeleteKeyframes(Connection& c, ForgetReport& r, std::int64_t cutoff, const ForgetProgress& progress) {
+  const char* kSelect =
+      "SELECT k.id, k.pinned, k.relevance >= ?3, "
+      "  EXISTS (SELECT 1 FROM event_evidence ev WHERE ev.keyframe_id = k.id) OR "
+      "  EXISTS (SELECT 1 FROM segments s JOIN events e ON e.segment_id = s.id WHERE s.keyframe_id = k.id), "
+      "  m.ended_ns IS NULL OR m.status = 'observing' "
+      "FROM keyframes k JOIN scene_models m ON m.id = k.scene_id "
+      "WHERE k.map_id = ?1 AND k.stamp_ns < ?2 ORDER BY k.id";
+  Statement select(c, kSelect);
+  select.Bind(1, r.map_id).Bind(2, cutoff).Bind(3, r.policy.keep_relevance_at_least);
+  std::vector<std::int64_t> ids;
+  while (select.Step()) {
+    if (select.Int(1)) ++r.keyframes_kept_pinned;
+    else if (select.Int(2)) ++r.keyframes_kept_relevant;
+    else if (select.Int(3)) ++r.keyframes_kept_referenced;
+    else if (select.Int(4)) ++r.keyframes_kept_open_scene;
+    else ids.push_back(select.Int(0));
+  }
+  Stage stage(progress, "keyframes", 0.3, 0.85, ids.size());
+  std::size_t done = 0;
+  for (std::int64_t id : ids) {
+    Statement segments(c,
+                       "SELECT s.id, length(s.sample) + 96 FROM segments s WHERE s.keyframe_id = ? AND NOT EXISTS "
+                       "(SELECT 1 FROM events e WHERE e.segment_id = s.id) ORDER BY s.id");
+    segments.Bind(1, id);
+    std::vector<std::int64_t> segment_ids;
+    while (segments.Step()) {
+      segment_ids.push_back(segments.Int(0));
+      r.bytes_freed_estimate += segments.Int(1);
+    }
+    for (std::int64_t s : segment_ids) {
+      Statement d(c, "DELETE FROM segments WHERE id = ?");
+      d.Bind(1, s).Run();
+      r.segments_deleted.push_back(s);
+    }
+    r.bytes_freed_estimate += SumBytes(c, "SELECT length(depth) + length(background) + 96 FROM keyframes WHERE id = ?", id);
+    Statement d(c, "DELETE FROM keyframes WHERE id = ?");  // a remaining reference fails here (foreign key)
+    d.Bind(1, id).Run();
+    r.keyframes_deleted.push_back(id);
+    stage.Step(++done);
+  }
+}
+
+// 4. Forgotten superseded models without keyframes: the row goes too.
+void DeleteEmptyModels(Connection& c, ForgetReport& r, const ForgetProgress& progress) {
+  Statement select(c,
+                   "SELECT m.id, length(m.merge_report) + length(m.pose) + length(m.intrinsics) + length(m.params) + 128 "
+                   "FROM scene_models m WHERE m.map_id = ? AND m.status = 'superseded' AND m.forgotten_ns IS NOT NULL "
+                   "AND NOT EXISTS (SELECT 1 FROM keyframes k WHERE k.scene_id = m.id) ORDER BY m.id");
+  select.Bind(1, r.map_id);
+  std::vector<std::pair<std::int64_t, std::int64_t>> rows;
+  while (select.Step()) rows.emplace_back(select.Int(0), select.Int(1));
+  Stage stage(progress, "models", 0.85, 0.9, rows.size());
+  std::size_t done = 0;
+  for (const auto& [id, bytes] : rows) {
+    // events.scene_id, instances.last_scene_id and superseded_by of older models become NULL (ON DELETE SET NULL).
+    Statement d(c, "DELETE FROM scene_models WHERE id = ?");
+    d.Bind(1, id).Run();
+    r.models_deleted.push_back(id);
+    r.bytes_freed_estimate += bytes;
+    stage.Step(++done);
+  }
+}
+
+std::string MainFile(Connection& c) {
+  const char* name = sqlite3_db_filename(c.handle(), "main");
+  return name ? std::string(name) : std::string();
+}
+
+void Vacuum(Connection& c, ForgetReport& r, const ForgetProgress& progress) {
+  if (progress) progress("vacuum", 0.9);
+  const std::string path = MainFile(c);
+  r.file_bytes_before = DatabaseFileBytes(path);
+  const std::int64_t mode = PragmaInt(c, "PRAGMA auto_vacuum");
+  if (mode == 2) {
+    Statement s(c, "PRAGMA incremental_vacuum");
+    s.Run();
+    r.vacuum_mode = "incremental";
+  } else if (mode == 1) {
+    r.vacuum_mode = "full_auto_vacuum";  // FULL already truncates at every commit
+  } else {
+    c.Exec("PRAGMA auto_vacuum = INCREMENTAL");
+    c.Exec("VACUUM");  // rebuilds the file (atomic: through the WAL) with the new mode
+    r.vacuum_mode = "switched_to_incremental";
+  }
+  {
+    Statement s(c, "PRAGMA wal_checkpoint(TRUNCATE)");  // the main file shrinks on disk only at a checkpoint
+    s.Run();
+  }
+  r.page_count_after_vacuum = PragmaInt(c, "PRAGMA page_count");
+  r.freelist_after_vacuum = PragmaInt(c, "PRAGMA freelist_count");
+  r.file_bytes_after = DatabaseFileBytes(path);
+  if (progress) progress("vacuum", 1.0);
+}
+
+}  // namespace
+
+ForgetRequest ParseForgetRequest(const Json& body) {
+  if (!body.is_object()) throw Error(ErrorCode::kInvalidJson, "request body must be a JSON object");
+  json::RejectUnknownKeys(body, {"policy", "dry_run"});
+  ForgetRequest out;
+  out.dry_run = json::BoolOr(body, "dry_run", false);
+  auto it = body.find("policy");
+  if (it == body.end() || it->is_null()) return out;
+  const Json& p = *it;
+  if (!p.is_object()) throw Error(ErrorCode::kInvalidArgument, "policy must be an object", "policy");
+  json::RejectUnknownKeys(p, {"superseded_models", "keyframe_max_age_s", "keep_relevance_at_least", "event_max_age_s",
+                              "vacuum"},
+                          "policy");
+  ForgetPolicy& policy = out.policy;
+  policy.drop_superseded = json::BoolOr(p, "superseded_models", policy.drop_superseded, "policy");
+  policy.keyframe_max_age_s = ParseAge(p, "keyframe_max_age_s", policy.keyframe_max_age_s);
+  policy.event_max_age_s = ParseAge(p, "event_max_age_s", policy.event_max_age_s);
+  policy.keep_relevance_at_least =
+      json::FiniteNumberOr(p, "keep_relevance_at_least", policy.keep_relevance_at_least, "policy");
+  if (policy.keep_relevance_at_least < 0.0 || policy.keep_relevance_at_least > 1.0) {
+    throw Error(ErrorCode::kUnprocessable, "policy.keep_relevance_at_least must be in [0, 1]",
+                "policy.keep_relevance_at_least");
+  }
+  policy.vacuum = json::BoolOr(p, "vacuum", policy.vacuum, "policy");
+  return out;
+}
+
+Json ToJson(const ForgetPolicy& p) {
+  return {{"superseded_models", p.drop_superseded},
+          {"keyframe_max_age_s", p.keyframe_max_age_s ? Json(*p.keyframe_max_age_s) : Json(nullptr)},
+          {"keep_relevance_at_least", p.keep_relevance_at_least},
+          {"event_max_age_s", p.event_max_age_s ? Json(*p.event_max_age_s) : Json(nullptr)},
+          {"vacuum", p.vacuum}};
+}
+
+Json ForgetReport::ToJson() const {
+  Json j = {
+      {"map", map_id},
+      {"dry_run", dry_run},
+      {"committed", committed},
+      {"now_ns", now_ns},
+      {"policy", storage::ToJson(policy)},
+      {"models_state_dropped", IdList(models_state_dropped)},
+      {"models_deleted", IdList(models_deleted)},
+      {"events_deleted", IdList(events_deleted)},
+      {"keyframes_deleted", IdList(keyframes_deleted)},
+      {"segments_deleted", IdList(segments_deleted)},
+      {"features_deduplicated", 0},
+      {"counts",
+       {{"models_state_dropped", models_state_dropped.size()},
+        {"models_deleted", models_deleted.size()},
+        {"events_deleted", events_deleted.size()},
+        {"keyframes_deleted", keyframes_deleted.size()},
+        {"segments_deleted", segments_deleted.size()},
+        {"features_deduplicated", 0}}},
+      {"kept",
+       {{"keyframes_pinned", keyframes_kept_pinned},
+        {"keyframes_relevant", keyframes_kept_relevant},
+        {"keyframes_referenced", keyframes_kept_referenced},
+        {"keyframes_of_open_scenes", keyframes_kept_open_scene},
+        {"events_pinned", events_kept_pinned},
+        {"events_labelled", events_kept_labelled},
+        {"events_latest_of_instance", events_kept_latest},
+        {"events_of_pinned_instances", events_kept_pinned_instance}}},
+      {"notes", {"features are not stored yet: nothing to de-duplicate"}},
+      {"bytes_freed_estimate", bytes_freed_estimate},
+      {"pages",
+       {{"page_size", page_size},
+        {"before", {{"page_count", page_count_before}, {"freelist_count", freelist_before}}},
+        {"after", {{"page_count", page_count_after}, {"freelist_count", freelist_after}}}}},
+      {"seconds", seconds},
+  };
+  if (!vacuum_mode.empty()) {
+    j["vacuum"] = {{"mode", vacuum_mode}};
+    if (vacuum_mode != "skipped (dry run)") {
+      j["vacuum"]["file_bytes_before"] = file_bytes_before;
+      j["vacuum"]["file_bytes_after"] = file_bytes_after;
+      j["vacuum"]["page_count_after"] = page_count_after_vacuum;
+      j["vacuum"]["freelist_count_after"] = freelist_after_vacuum;
+    }
+  }
+  return j;
+}
+
+std::int64_t DatabaseFileBytes(const std::string& path) {
+  std::int64_t total = 0;
+  for (const std::string& p : {path, path + "-wal"}) {
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(p, ec);
+    if (!ec) total += static_cast<std::int64_t>(size);
+  }
+  return total;
+}
+
+ForgetReport Forget(Connection& c, const std::string& map_id, const ForgetPolicy& policy, std::int64_t now_ns,
+                    bool dry_run, const ForgetProgress& progress, const ForgetBeforeCommit& before_commit) {
+  if (!sqlite3_get_autocommit(c.handle())) {
+    throw Error(ErrorCode::kInternal, "Forget needs a connection outside any transaction");
+  }
+  const auto start = std::chrono::steady_clock::now();
+  ForgetReport r;
+  r.map_id = map_id;
+  r.dry_run = dry_run;
+  r.now_ns = now_ns;
+  r.policy = policy;
+  {
+    Transaction tx(c);
+    if (!FindMap(c, map_id)) throw Error(ErrorCode::kNotFound, "map '" + map_id + "' does not exist", "map");
+    r.page_size = PragmaInt(c, "PRAGMA page_size");
+    r.page_count_before = PragmaInt(c, "PRAGMA page_count");
+    r.freelist_before = PragmaInt(c, "PRAGMA freelist_count");
+    if (policy.drop_superseded) DropSupersededState(c, r, progress);
+    if (policy.event_max_age_s) DeleteEvents(c, r, CutoffNs(now_ns, *policy.event_max_age_s), progress);
+    if (policy.keyframe_max_age_s) DeleteKeyframes(c, r, CutoffNs(now_ns, *policy.keyframe_max_age_s), progress);
+    if (policy.drop_superseded) DeleteEmptyModels(c, r, progress);
+    r.page_count_after = PragmaInt(c, "PRAGMA page_count");
+    r.freelist_after = PragmaInt(c, "PRAGMA freelist_count");
+    if (progress) progress(dry_run ? "rollback" : "commit", 0.9);
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!dry_run) {
+      r.committed = true;  // as recorded by before_commit; false again if the commit throws
+      try {
+        if (before_commit) before_commit(c, r);
+        tx.Commit();
+      } catch (...) {
+        r.committed = false;
+        throw;
+      }
+    }
+    // A dry run rolls back here (Transaction's destructor).
+  }
+  if (policy.vacuum) {
+    if (dry_run) r.vacuum_mode = "skipped (dry run)";
+    else Vacuum(c, r, progress);
+  }
+  if (progress) progress("done", 1.0);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+}  // namespace anchordb::storage

@@ -1,0 +1,93 @@
+#pragma once
+// Forgetting (thesis 3.3.4, SPEC §4.5): keeps the memory bounded without removing what a live reference needs.
+//
+// One run over one map, in ONE write transaction (dry runs roll it back):
+// 1. superseded scene models (closed, superseder still stored) lose their state blobs (background, weight, labels;
+//    state_version 0, forgotten_ns set): the superseder merged their information;
+// 2. events older than event_max_age_s go unless pinned, 'labelled', the latest event of their instance (it proves
+//    the current position) or of a pinned instance; their evidence rows cascade, instance history keeps the position;
+// 3. keyframes older than keyframe_max_age_s go unless pinned, relevance >= keep_relevance_at_least, evidence of a
+//    remaining event, the source of a segment a remaining event uses, or of a scene that was never closed; their
+//    segments that no event uses go first;
+// 4. forgotten superseded models without any keyframe left are deleted (the R*Tree row goes by trigger).
+// Features are not stored yet: nothing is de-duplicated (the report says so).
+// The foreign keys (no cascade onto keyframes) make a bookkeeping mistake fail and roll back instead of dangling.
+//
+// vacuum (only when something was committed, never in a dry run): incremental_vacuum when the file is in
+// auto_vacuum=INCREMENTAL mode, otherwise a one-time switch (auto_vacuum=INCREMENTAL; VACUUM) outside any
+// transaction, then a WAL checkpoint (TRUNCATE) so the file shrinks on disk.
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "storage/sqlite.h"
+
+namespace anchordb::storage {
+
+struct ForgetPolicy {
+  bool drop_superseded = true;                          // JSON "superseded_models"
+  std::optional<double> keyframe_max_age_s = 7 * 86400.0;  // nullopt (JSON null): keyframes never expire
+  double keep_relevance_at_least = 0.5;
+  std::optional<double> event_max_age_s = 30 * 86400.0;    // nullopt (JSON null): events never expire
+  bool vacuum = false;
+};
+
+struct ForgetRequest {
+  ForgetPolicy policy;
+  bool dry_run = false;
+};
+
+// Parses {"policy": {"superseded_models", "keyframe_max_age_s", "keep_relevance_at_least", "event_max_age_s",
+// "vacuum"}, "dry_run"}; every key optional. Unknown keys and wrong types: Error kInvalidArgument (400); negative
+// or absurd ages (over 100 years) and a relevance outside [0, 1]: kUnprocessable (422); the field is named.
+ForgetRequest ParseForgetRequest(const nlohmann::json& body);
+nlohmann::json ToJson(const ForgetPolicy& policy);
+
+struct ForgetReport {
+  std::string map_id;
+  bool dry_run = false;
+  std::int64_t now_ns = 0;
+  ForgetPolicy policy;
+  std::vector<std::int64_t> models_state_dropped;
+  std::vector<std::int64_t> models_deleted;
+  std::vector<std::int64_t> events_deleted;
+  std::vector<std::int64_t> keyframes_deleted;
+  std::vector<std::int64_t> segments_deleted;
+  // Old keyframes / events that stayed, by the first reason that kept them.
+  std::int64_t keyframes_kept_pinned = 0, keyframes_kept_relevant = 0, keyframes_kept_referenced = 0,
+               keyframes_kept_open_scene = 0;
+  std::int64_t events_kept_pinned = 0, events_kept_labelled = 0, events_kept_latest = 0,
+               events_kept_pinned_instance = 0;
+  std::int64_t bytes_freed_estimate = 0;  // blob and text bytes of what went (not counting page overhead)
+  std::int64_t page_size = 0;
+  std::int64_t page_count_before = 0, freelist_before = 0;
+  std::int64_t page_count_after = 0, freelist_after = 0;  // at the end of the (committed or rolled back) transaction
+  bool committed = false;
+  // Vacuum (when requested and not a dry run).
+  std::string vacuum_mode;  // "", "incremental", "switched_to_incremental", "full_auto_vacuum", "skipped (dry run)"
+  std::int64_t file_bytes_before = 0, file_bytes_after = 0;  // main file + WAL
+  std::int64_t page_count_after_vacuum = 0, freelist_after_vacuum = 0;
+  double seconds = 0.0;
+
+  nlohmann::json ToJson() const;
+};
+
+// stage, fraction in [0, 1]. It may throw to abort the run: the transaction rolls back and the exception propagates.
+using ForgetProgress = std::function<void(std::string_view stage, double fraction)>;
+// Runs inside the transaction just before it commits (not in a dry run): lets a caller record the outcome atomically
+// with the deletions (the job row).
+using ForgetBeforeCommit = std::function<void(Connection& c, const ForgetReport& report)>;
+
+// `c` must not be inside a transaction (Forget opens BEGIN IMMEDIATE, and VACUUM needs none). Unknown map: kNotFound.
+ForgetReport Forget(Connection& c, const std::string& map_id, const ForgetPolicy& policy, std::int64_t now_ns,
+                    bool dry_run, const ForgetProgress& progress = {}, const ForgetBeforeCommit& before_commit = {});
+
+// Size of the database file plus its WAL, in bytes (0 for a missing file).
+std::int64_t DatabaseFileBytes(const std::string& path);
+
+}  // namespace anchordb::storage
