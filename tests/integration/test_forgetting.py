@@ -282,6 +282,21 @@ class ForgetKill9Test(unittest.TestCase):
         # job may also have finished): all deletions or none, and the job says which.
         self.kill_during_job({"keyframe_max_age_s": 86400, "vacuum": True}, kill_at=("commit", "vacuum"))
 
+    def test_sigterm_during_a_job_stops_cleanly(self):
+        job_id = self.c.request("POST", "/v1/maps/home:forget", {"policy": {"keyframe_max_age_s": 86400}})["job"]
+        self.assertEqual(self.server.stop(), 0, self.server.stderr_text())
+        self.assertEqual(soundness(self.server.db_path), ("ok", []))
+        self.server.start()
+        job = self.server.client.request("GET", "/v1/jobs/%d" % job_id)
+        left = keyframe_ids(self.server.db_path, "home")
+        if job["status"] == "succeeded":
+            self.assertEqual(left, set(), job)
+        else:
+            self.assertEqual((job["status"], job["error"][:28]), ("failed", "interrupted by a server stop"), job)
+            self.assertEqual(left, self.old, job)
+        print("\n[ figures ] SIGTERM right after the 202: the job %s%s" % (
+            job["status"], " (%s)" % job["error"] if job["error"] else ""))
+
 
 if __name__ == "__main__":
     unittest.main()
