@@ -158,6 +158,7 @@ std::optional<std::int64_t> ParseIso8601Ns(std::string_view text) {
   tm.tm_min = m;
   tm.tm_sec = s;
   const std::int64_t epoch_s = static_cast<std::int64_t>(timegm(&tm)) - offset_s;
+  if (epoch_s < 0 || epoch_s >= 9'223'372'036LL) return std::nullopt;  // outside int64 nanoseconds since 1970
   return epoch_s * 1000000000LL + frac_ns;
 }
 
@@ -169,7 +170,7 @@ std::int64_t AsStampNs(const Json& v, const std::string& field) {
   }
   if (v.is_string()) {
     auto ns = ParseIso8601Ns(v.get<std::string>());
-    if (!ns) Invalid(field, "not an ISO 8601 UTC time such as 2026-11-22T10:00:00Z");
+    if (!ns) Invalid(field, "not an ISO 8601 UTC time between 1970 and 2262 such as 2026-11-22T10:00:00Z");
     return *ns;
   }
   Invalid(field, "must be integer nanoseconds since the epoch or an ISO 8601 string");
