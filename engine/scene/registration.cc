@@ -112,18 +112,26 @@ IcpResult AlignIcp(const std::vector<Eigen::Vector3f>& source, const IcpTarget& 
     return n ? sum / n : std::numeric_limits<double>::infinity();
   };
   result.fitness_before_m2 = fitness(Eigen::Matrix4f::Identity());
-  // Point-to-plane ICP: indoor scenes are mostly planes, along which point-to-point ICP slides. Two passes, the
-  // second with a tighter correspondence range, refine the correction. The target's search tree is reused.
+  // Point-to-plane ICP: indoor scenes are mostly planes, along which point-to-point ICP slides. Two passes: a coarse
+  // one (a subset of the source, the full correspondence range), then a fine one (all source points, a third of the
+  // range). The target's search tree is reused.
+  auto coarse = src;
+  if (params.coarse_source_points > 0 && static_cast<int>(src->size()) > params.coarse_source_points) {
+    coarse = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+    const double step = static_cast<double>(src->size()) / params.coarse_source_points;
+    for (int i = 0; i < params.coarse_source_points; ++i) coarse->push_back((*src)[static_cast<std::size_t>(i * step)]);
+  }
   Eigen::Matrix4f T = Eigen::Matrix4f::Identity();
   bool converged = true;
-  for (double range : {params.max_correspondence_m, params.max_correspondence_m / 3.0}) {
+  for (const bool fine : {false, true}) {
+    const double range = fine ? params.max_correspondence_m / 3.0 : params.max_correspondence_m;
     pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> icp;
     icp.setSearchMethodTarget(tgt.tree, /*force_no_recompute=*/true);
-    icp.setInputSource(src);
+    icp.setInputSource(fine ? src : coarse);
     icp.setInputTarget(tgt.cloud);
     icp.setMaxCorrespondenceDistance(range);
     icp.setMaximumIterations(params.max_iterations);
-    icp.setTransformationEpsilon(params.transformation_epsilon);
+    icp.setTransformationEpsilon(fine ? params.transformation_epsilon : params.coarse_transformation_epsilon);
     icp.setEuclideanFitnessEpsilon(params.fitness_epsilon);
     pcl::PointCloud<pcl::PointNormal> aligned;
     icp.align(aligned, T);

@@ -13,12 +13,17 @@ struct IcpParams {
   double voxel_m = 0.03;                    // both clouds are downsampled with a voxel grid of this size first
   double max_correspondence_m = 0.10;       // covers the expected pose error (a few cm, a few degrees) plus noise
   int max_iterations = 40;
-  double transformation_epsilon = 1e-8;     // stop when the transform changes less than this (squared)
+  double transformation_epsilon = 1e-8;     // stop when the transform changes less than this (squared; PCL also
+                                            // takes 1 - this as the cosine bound of the rotation step)
+  double coarse_transformation_epsilon = 1e-6;  // the same for the coarse pass (1 mm, ~0.1 deg): it only has to come
+                                                // close, and on some views it otherwise oscillates to max_iterations
   double fitness_epsilon = 1e-7;            // stop when the mean squared error changes less than this
   int max_points = 6000;                    // after downsampling, the target is subsampled evenly to at most this
-  int max_source_points = 3000;             // and a source to at most this: every ICP iteration and the fitness
+  int max_source_points = 4000;             // and a source to at most this: every ICP iteration and the fitness
                                             // checks cost one nearest-neighbour search per source point, while the
                                             // target's size only deepens its search tree
+  int coarse_source_points = 1500;          // the first, wide-range pass uses an even subset of this many source
+                                            // points (it only has to come close); the second, tight pass all of them
   int max_input_points = 80000;             // a cloud is thinned evenly to at most this before the voxel grid (a
                                             // 640x480 image has ~300k points; a 3 cm voxel at 1-4 m still holds
                                             // several of the remaining ones, so only the centroids get noisier)
