@@ -54,7 +54,8 @@ JobService::~JobService() {
 
 Json JobService::SubmitForget(const std::string& map, const Json& body) {
   const storage::ForgetRequest request = storage::ParseForgetRequest(body);  // throws on bad input: nothing queued
-  const Json stored = {{"policy", storage::ToJson(request.policy)}, {"dry_run", request.dry_run}};
+  Json stored = {{"policy", storage::ToJson(request.policy)}, {"dry_run", request.dry_run}};
+  if (request.now_ns) stored["now"] = *request.now_ns;
   std::int64_t id = 0;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -192,7 +193,8 @@ void JobService::RunJob(std::int64_t id) {
       else SetJobStatus(c, id, "succeeded", "done", 1.0, &r, nullptr);
     };
     const storage::ForgetReport report =
-        storage::Forget(connection, map, request.policy, NowNs(), request.dry_run, progress, before_commit);
+        storage::Forget(connection, map, request.policy, request.now_ns.value_or(NowNs()), request.dry_run, progress,
+                        before_commit);
     committed = report.committed;
     result = report.ToJson();
     if (request.dry_run || request.policy.vacuum) {

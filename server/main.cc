@@ -230,8 +230,8 @@ int Forget(const std::vector<std::string>& args) {
   const storage::StoreOptions options = StoreOptionsOf(config);
   storage::Store store(options);  // migrates the file first
   storage::Connection connection(config.db, options.connection);
-  const std::int64_t now_ns =
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+  const std::int64_t now_ns = request.now_ns.value_or(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
   storage::ForgetReport report;
   try {
     report = storage::Forget(connection, map, request.policy, now_ns, request.dry_run);

@@ -229,9 +229,14 @@ void Vacuum(Connection& c, ForgetReport& r, const ForgetProgress& progress) {
 
 ForgetRequest ParseForgetRequest(const Json& body) {
   if (!body.is_object()) throw Error(ErrorCode::kInvalidJson, "request body must be a JSON object");
-  json::RejectUnknownKeys(body, {"policy", "dry_run"});
+  json::RejectUnknownKeys(body, {"policy", "dry_run", "now"});
   ForgetRequest out;
   out.dry_run = json::BoolOr(body, "dry_run", false);
+  if (body.contains("now") && !body["now"].is_null()) {
+    out.now_ns = json::AsStampNs(body["now"], "now");
+    const auto wall = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+    if (*out.now_ns > wall) throw Error(ErrorCode::kUnprocessable, "now must not lie in the future", "now");
+  }
   auto it = body.find("policy");
   if (it == body.end() || it->is_null()) return out;
   const Json& p = *it;

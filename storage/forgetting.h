@@ -40,10 +40,13 @@ struct ForgetPolicy {
 struct ForgetRequest {
   ForgetPolicy policy;
   bool dry_run = false;
+  // The clock ages are measured from (JSON "now": ns or ISO 8601, not in the future); default the wall clock. A
+  // simulation or a replay of recorded data forgets by its own time.
+  std::optional<std::int64_t> now_ns;
 };
 
 // Parses {"policy": {"superseded_models", "keyframe_max_age_s", "keep_relevance_at_least", "event_max_age_s",
-// "vacuum"}, "dry_run"}; every key optional. Unknown keys and wrong types: Error kInvalidArgument (400); negative
+// "vacuum"}, "dry_run", "now"}; every key optional. Unknown keys and wrong types: Error kInvalidArgument (400); negative
 // or absurd ages (over 100 years) and a relevance outside [0, 1]: kUnprocessable (422); the field is named.
 ForgetRequest ParseForgetRequest(const nlohmann::json& body);
 nlohmann::json ToJson(const ForgetPolicy& policy);
