@@ -322,8 +322,13 @@ Json EventService::Where(const std::string& map, const std::string& raw_label, s
                             : "at (" + std::to_string(p.x()).substr(0, 5) + ", " + std::to_string(p.y()).substr(0, 5) + ") in the map";
   out["placement"] = place ? *place : Json(nullptr);
   const bool present = out["present"].get<bool>();
-  out["sentence"] = present ? "The " + label + (at_ns ? " were " : " are ") + where + "."
-                            : "The " + label + " were last seen " + where + "; they were taken away and have not been seen since.";
+  // English agreement by the label's last letter ("keys are", "the mug is"): good enough for spoken answers.
+  const bool plural = label.back() == 's';
+  const std::string is = at_ns ? (plural ? " were " : " was ") : (plural ? " are " : " is ");
+  out["sentence"] = present ? "The " + label + is + where + "."
+                            : "The " + label + (plural ? " were" : " was") + " last seen " + where + "; " +
+                                  (plural ? "they were" : "it was") + " taken away and " + (plural ? "have" : "has") +
+                                  " not been seen since.";
   return out;
 }
 

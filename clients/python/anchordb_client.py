@@ -282,3 +282,49 @@ class Client:
         body = {"robot": list(robot), "agent": agent, "layer": layer}
         body.update(opts)
         return self.request("POST", "/v1/maps/%s/viewpoints" % _quote(map_id), body)
+
+    # ------------------------------------------------------------------ events, instances, where-is, forgetting
+
+    def events(self, map_id, since=None, until=None, type=None, instance=None, after=None, limit=None):  # noqa: A002
+        return self.request("GET", "/v1/maps/%s/events" % _quote(map_id) +
+                            _query({"since": since, "until": until, "type": type, "instance": instance,
+                                    "after": after, "limit": limit}))
+
+    def label_event(self, map_id, event_id, label, source="dialog"):
+        return self.request("POST", "/v1/maps/%s/events/%d:label" % (_quote(map_id), event_id),
+                            {"label": label, "source": source})
+
+    def instances(self, map_id, label=None, kind=None, status=None):
+        return self.request("GET", "/v1/maps/%s/instances" % _quote(map_id) +
+                            _query({"label": label, "kind": kind, "status": status}))
+
+    def create_instance(self, map_id, label, position, kind="furniture", extent=None, yaw_rad=None):
+        body = {"kind": kind, "label": label, "position": list(position)}
+        if extent is not None:
+            body["extent"] = list(extent)
+        if yaw_rad is not None:
+            body["yaw_rad"] = yaw_rad
+        return self.request("POST", "/v1/maps/%s/instances" % _quote(map_id), body)
+
+    def label_instance(self, map_id, instance_id, label, source="dialog"):
+        return self.request("POST", "/v1/maps/%s/instances/%d:label" % (_quote(map_id), instance_id),
+                            {"label": label, "source": source})
+
+    def history(self, map_id, instance_id):
+        return self.request("GET", "/v1/maps/%s/instances/%d/history" % (_quote(map_id), instance_id))
+
+    def where(self, map_id, label, at=None):
+        """Where the thing labelled `label` is (or was at time `at`): position, evidence, sentence."""
+        return self.request("GET", "/v1/maps/%s/where" % _quote(map_id) + _query({"label": label, "at": at}))
+
+    def forget(self, map_id, policy=None, dry_run=False, now=None):
+        """Starts a forgetting job (admin token); returns the job. Poll it with job()."""
+        body = {"dry_run": dry_run}
+        if policy is not None:
+            body["policy"] = policy
+        if now is not None:
+            body["now"] = now
+        return self.request("POST", "/v1/maps/%s:forget" % _quote(map_id), body)
+
+    def job(self, job_id):
+        return self.request("GET", "/v1/jobs/%d" % job_id)

@@ -3,6 +3,7 @@ pagination, filters, ApiError fields and the low-level request()."""
 
 import math
 import struct
+import time
 import unittest
 
 import anchordb_client
@@ -64,6 +65,34 @@ class PythonClientTest(unittest.TestCase):
         self.assertLessEqual(len(vp["viewpoints"]), 5)
         self.assertEqual(c.delete_layer("cm", "lab"), {"deleted": "lab"})
         self.assertEqual(c.delete_map("cm"), {"deleted": "cm"})
+
+    def test_event_methods(self):
+        c = self.c
+        c.create_map("ev", "Events")
+        table = c.create_instance("ev", "Table", [1.0, 2.0, 0.4], extent=[0.8, 1.2, 0.75])
+        cup = c.create_instance("ev", "cup", [1.1, 2.1, 0.8], kind="object", extent=[0.08, 0.08, 0.1])
+        self.assertEqual(table["labels"], {"table": 1.0})
+        self.assertEqual([i["id"] for i in c.instances("ev", kind="object")["instances"]], [cup["id"]])
+        relabelled = c.label_instance("ev", cup["id"], "Mug", source="operator")
+        self.assertEqual(relabelled["instance"]["labels"], {"mug": 1.0})
+        self.assertEqual(relabelled["event"]["type"], "labelled")
+        where = c.where("ev", "mug")
+        self.assertEqual(where["instance"], cup["id"])
+        self.assertEqual(where["sentence"], "The mug is on the table.")
+        self.assertEqual(len(c.history("ev", cup["id"])["history"]), 1)
+        self.assertEqual([e["type"] for e in c.events("ev", type="labelled")["events"]], ["labelled"])
+        with self.assertRaises(ApiError) as err:
+            c.label_event("ev", 999, "keys")
+        self.assertEqual(err.exception.status, 404)
+        job = c.forget("ev", policy={"keyframe_max_age_s": 0}, dry_run=True)
+        for _ in range(500):
+            state = c.job(job["job"])
+            if state["status"] in ("succeeded", "failed"):
+                break
+            time.sleep(0.01)
+        self.assertEqual(state["status"], "succeeded")
+        self.assertTrue(state["result"]["dry_run"])
+        c.delete_map("ev")
 
     def test_pagination(self):
         c = self.c
