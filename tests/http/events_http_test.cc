@@ -63,6 +63,16 @@ TEST_F(EventsHttpTest, LostKeyMoveIsInferredPastStateAnsweredAndOperatorRelabelS
   // Where at a time between taking and bringing: last seen on the shelf, gone.
   EXPECT_FALSE(result.past_where.value("present", true)) << result.past_where.dump();
   EXPECT_NE(result.past_where["sentence"].get<std::string>().find("shelf"), std::string::npos);
+  // Layered action model: the first visit's keyframes are begin, settled (the movable layer settled after the
+  // object was put down: a completed action) and end; the addition belongs to layer 0, which the settled keyframe
+  // closed, and the last layer saw nothing change.
+  const json first_scene = Ok("GET", "/v1/maps/home/scenes/1");
+  std::vector<std::string> kinds;
+  for (const json& k : first_scene["keyframes"]) kinds.push_back(k["kind"]);
+  EXPECT_EQ(kinds, (std::vector<std::string>{"begin", "settled", "end"}));
+  const json first_events = Ok("GET", "/v1/maps/home/events?scene=1")["events"];
+  ASSERT_EQ(first_events.size(), 1u);
+  EXPECT_EQ(first_events[0]["action_layer"], 0);
   // History: present at B, absent from B, present at A.
   const json history = Ok("GET", "/v1/maps/home/instances/" + std::to_string(keys) + "/history")["history"];
   ASSERT_GE(history.size(), 3u);
