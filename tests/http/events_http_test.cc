@@ -63,6 +63,21 @@ TEST_F(EventsHttpTest, LostKeyMoveIsInferredPastStateAnsweredAndOperatorRelabelS
   // Where at a time between taking and bringing: last seen on the shelf, gone.
   EXPECT_FALSE(result.past_where.value("present", true)) << result.past_where.dump();
   EXPECT_NE(result.past_where["sentence"].get<std::string>().find("shelf"), std::string::npos);
+  // With a furniture graph of the place, the sentence uses the grounding model's furniture and preferred words.
+  const json graph = Ok("POST", "/v1/maps/home/furniture-graphs", json({
+      {"viewpoint", {{"position", {0.6, 0.0}}, {"heading_rad", 0.0}}},
+      {"furniture", {{{"id", "t"}, {"position", {2.3, 0.0}}, {"extent", {0.8, 1.2}}, {"categories", {{"table", 0.8}, {"chair", 0.2}}}},
+                     {{"id", "c"}, {"position", {2.3, 0.9}}, {"extent", {0.45, 0.45}}, {"categories", {{"chair", 0.8}, {"table", 0.2}}}}}}}).dump(), 201);
+  const json placed = Ok("GET", "/v1/maps/home/where?label=keys");
+  EXPECT_EQ(placed["placement"]["graph"], graph["id"]);
+  EXPECT_EQ(placed["placement"]["relation"], "on");
+  EXPECT_EQ(placed["sentence"], "The keys are on the table.");
+  Ok("POST", "/v1/maps/home/instances", R"({"kind":"object","label":"cup","position":[2.3,1.5,0.0]})", 201);
+  const json cup = Ok("GET", "/v1/maps/home/where?label=cup");
+  EXPECT_EQ(cup["placement"]["furniture"], "c");  // nearest: the chair
+  EXPECT_NE(cup["placement"]["frame"], nullptr);  // relative or intrinsic, as the listener model prefers
+  EXPECT_NE(cup["sentence"].get<std::string>().find("the chair"), std::string::npos) << cup.dump();
+
   // Layered action model: the first visit's keyframes are begin, settled (the movable layer settled after the
   // object was put down: a completed action) and end; the addition belongs to layer 0, which the settled keyframe
   // closed, and the last layer saw nothing change.
