@@ -172,27 +172,36 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
       cv::erode(earlier, nearest_within[k], cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kRadii[k] + 1, 2 * kRadii[k] + 1)),
                 cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
     }
+    if (params.record_decisions) report.decisions.assign(n, static_cast<std::uint8_t>(MergeDecision::kNothing));
+    const auto decide = [&](std::size_t i, MergeDecision d) {
+      if (params.record_decisions) report.decisions[i] = static_cast<std::uint8_t>(d);
+    };
     for (int v = 0; v < K.height; ++v) {
       for (int u = 0; u < K.width; ++u) {
         const std::size_t i = static_cast<std::size_t>(v) * K.width + u;
         const float su = s_u[i], sv = s_v[i];
         if (sv == 0.0f) {  // nothing measured here now: the earlier background fills the gap
-          if (su > 0.0f) s_v[i] = su, w[i] = 1.0f, ++report.filled_unknown;
+          if (su > 0.0f) s_v[i] = su, w[i] = 1.0f, ++report.filled_unknown, decide(i, MergeDecision::kFilledUnknown);
           continue;
         }
         const float theta = beta * sv;
         if (su > 0.0f && std::abs(su - sv) < theta) {  // line 3-4
           w[i] += 1.0f;
           ++report.supported;
+          decide(i, MergeDecision::kSupported);
           continue;
         }
-        if (su > 0.0f && su < sv) continue;  // nearer: the static background is known to lie behind
+        if (su > 0.0f && su < sv) {  // nearer: the static background is known to lie behind
+          decide(i, MergeDecision::kNearer);
+          continue;
+        }
         // Lines 6-11 need the premises for s_v^i.
         const Eigen::Vector3d ray = PixelRay(K, u, v);
         const Eigen::Vector3d p_prior = X_prior_C * (ray * sv);
         const Projection proj = Project(p_prior, prior.K, params.frustum_far_m);
         if (!proj.inside || proj.u < u_min || proj.u > u_max || proj.v < v_min || proj.v > v_max) {  // premise 1
           ++report.rejected_fov;
+          decide(i, MergeDecision::kRejectedFov);
           continue;
         }
         // Premise 2: nothing stood in front of (or at) the point as seen from the earlier camera -- at the point's
@@ -211,6 +220,7 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
         }
         if (occluded) {  // something in front of, or at, the point's depth was seen
           ++report.rejected_occlusion;
+          decide(i, MergeDecision::kRejectedOcclusion);
           continue;
         }
         bool neighbour = false;  // premise 3: the transformed model has points at this depth nearby
@@ -224,6 +234,7 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
         }
         if (neighbour) {
           ++report.rejected_neighbourhood;
+          decide(i, MergeDecision::kRejectedNeighbourhood);
           continue;
         }
         if (su > sv) {  // lines 6-8
@@ -231,14 +242,17 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
           const float seen = prior.background_m[static_cast<std::size_t>(proj.v) * prior.K.width + proj.u];
           if (!(seen > proj.z + beta * proj.z)) {
             ++report.rejected_occlusion;
+            decide(i, MergeDecision::kNotSeenThrough);
             continue;
           }
           s_v[i] = su;
           w[i] = 1.0f;
           ++report.replaced_farther;
+          decide(i, MergeDecision::kReplacedFarther);
         } else {  // su unknown: lines 9-11, rear projection onto the earlier frustum's boundary
           if (unknown_distance_px.at<float>(proj.v, proj.u) < params.rear_projection_min_unknown_px) {
             ++report.rejected_occlusion;  // a dropout next to measured structure: not seen through
+            decide(i, MergeDecision::kRejectedDropout);
             continue;
           }
           const double exit = FrustumExit(X_prior_C.translation(), X_prior_C.linear() * ray, prior.K, params.frustum_far_m);
@@ -246,6 +260,9 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
             s_v[i] = static_cast<float>(exit);
             w[i] = 1.0f;
             ++report.rear_projected;
+            decide(i, MergeDecision::kRearProjected);
+          } else {
+            decide(i, MergeDecision::kRearNotBehind);
           }
         }
       }

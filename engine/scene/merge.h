@@ -48,10 +48,28 @@ struct MergeParams {
   // sensor's range): at least this many pixels from any measured pixel. Narrow unknown areas are dropouts
   // (projector shadow, grazing faces), not evidence of free space.
   double rear_projection_min_unknown_px = 14.0;
+  bool record_decisions = false;  // fill MergeModelReport::decisions (Algorithm 2 only)
   IcpParams icp;
   // ICP corrections beyond these, or that do not improve the fit, are not trusted (the stored poses are kept).
   double max_icp_translation_m = 0.15;
   double max_icp_rotation_rad = 0.105;
+};
+
+// What the merge of one earlier model did at a pixel of the new view (MergeParams::record_decisions), for diagnosis.
+enum class MergeDecision : std::uint8_t {
+  kNothing = 0,            // neither the current frame nor the transformed model has a measurement
+  kFilledUnknown,          // the current frame had none: the earlier background fills it
+  kSupported,              // line 4
+  kNearer,                 // the earlier background is nearer: ignored
+  kRejectedFov,            // premise 1
+  kRejectedOcclusion,      // premise 2
+  kRejectedNeighbourhood,  // premise 3
+  kNotSeenThrough,         // lines 6-8: the earlier camera measured nothing behind the point itself
+  kReplacedFarther,        // lines 6-8
+  kRejectedDropout,        // lines 9-11: the unknown earlier pixel is a dropout next to measured structure
+  kRearProjected,          // lines 9-11
+  kRearNotBehind,          // lines 9-11: the frustum's boundary is not behind the point
+  kCount
 };
 
 struct MergeModelReport {
@@ -66,6 +84,7 @@ struct MergeModelReport {
   std::size_t rejected_fov = 0;        // premise 1 failed
   std::size_t rejected_occlusion = 0;  // premise 2 failed
   std::size_t rejected_neighbourhood = 0;  // premise 3 failed
+  std::vector<std::uint8_t> decisions;     // per pixel, a MergeDecision (only with MergeParams::record_decisions)
 };
 
 struct MergeTiming {

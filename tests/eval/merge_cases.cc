@@ -450,11 +450,16 @@ MergeCaseResult RunMergeCase(sim::Setting setting, MergeCase c, std::uint64_t se
   // Truth pixels whose background (what the last viewpoint would see there without the expected-movable objects)
   // no earlier viewpoint measured: beyond its range, outside its view, hidden or dropped there.
   std::vector<std::uint8_t> unknown_background(truth.size(), 0);
+  std::vector<std::uint8_t> within_theta(truth.size(), 0);  // the object within theta of its own background
   if (result.truth_pixels > 0) {
     sim::Scene empty = script.phases.back().Last();
     for (int id : script.expected) empty = Without(std::move(empty), id);
     const Isometry3d& X_last = script.phases.back().X_true;
     const sim::Frame behind = sim::Render(empty, K, X_last, Noiseless(), 7);
+    for (std::size_t i = 0; i < truth.size(); ++i) {
+      const double object = final_frame.true_depth_m[i], back = behind.true_depth_m[i];
+      within_theta[i] = truth[i] && back > 0.0 && back - object < options.beta * object;
+    }
     sim::SensorModel exact = script.sensor;
     exact.noise = false;
     std::vector<std::pair<std::size_t, sim::Frame>> earlier;  // (phase, its view before and after a change)
@@ -496,6 +501,8 @@ MergeCaseResult RunMergeCase(sim::Setting setting, MergeCase c, std::uint64_t se
     merge_params.strategy = strategy;
     merge_params.beta = options.beta;
     merge_params.frustum_far_m = script.frustum_far_m;
+    merge_params.record_decisions = strategy == engine::MergeStrategy::kAlgorithm2;
+    std::vector<std::uint8_t> decision(truth.size(), 0);  // at the last viewpoint (see StrategyResult)
     std::vector<engine::SceneModelState> models;
     for (std::size_t p = 0; p < n_phases; ++p) {
       engine::SceneModelState state = engine::NewSceneModel(K.width, K.height);
@@ -511,7 +518,16 @@ MergeCaseResult RunMergeCase(sim::Setting setting, MergeCase c, std::uint64_t se
         out.timing.rasterise_ms += merged.timing.rasterise_ms;
         out.timing.merge_ms += merged.timing.merge_ms;
         for (std::size_t j = 0; j < merged.models.size(); ++j) {
+          if (p + 1 == n_phases && !merged.models[j].decisions.empty()) {
+            for (std::size_t i = 0; i < decision.size(); ++i) {
+              const auto d = static_cast<engine::MergeDecision>(decision[i]);
+              if (d != engine::MergeDecision::kReplacedFarther && d != engine::MergeDecision::kRearProjected) {
+                decision[i] = merged.models[j].decisions[i];
+              }
+            }
+          }
           out.reports.push_back(merged.models[j]);
+          out.reports.back().decisions.clear();
           if (strategy == engine::MergeStrategy::kNaiveWithoutIcp) continue;
           const std::vector<Eigen::Vector3f> points_j =
               engine::BackProject(models[j].background_m, K, Isometry3d::Identity());
@@ -531,6 +547,15 @@ MergeCaseResult RunMergeCase(sim::Setting setting, MergeCase c, std::uint64_t se
     out.cleaned = testing::CountPixels(cleaned, truth, {});
     out.cleaned_zone = testing::CountPixels(cleaned, truth, zone);
     for (std::size_t i = 0; i < cleaned.size(); ++i) out.unknown_background_detected += unknown_background[i] && cleaned[i];
+    if (strategy == engine::MergeStrategy::kAlgorithm2) {
+      for (std::size_t i = 0; i < cleaned.size(); ++i) {
+        if (!truth[i] || zone[i] || cleaned[i]) continue;
+        if (within_theta[i]) ++out.fn_within_theta;
+        else if (unknown_background[i]) ++out.fn_unknown_background;
+        else if (final_model.movable[i]) ++out.fn_cleaned_away;
+        else ++out.fn_by_decision[decision[i]];
+      }
+    }
   }
   return result;
 }

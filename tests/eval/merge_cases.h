@@ -70,6 +70,16 @@ struct StrategyResult {
   std::vector<engine::MergeModelReport> reports;
   engine::MergeTiming timing;
   std::size_t unknown_background_detected = 0;  // of MergeCaseResult::unknown_background_pixels, cleaned movable
+  // Diagnosis of the false negatives of cleaned_zone (Algorithm 2 only): pixels where the object lies within theta
+  // of its own true background (what the last viewpoint would see without the expected-movable objects: Algorithm 1
+  // cannot tell them apart, whatever the merge does); of the others, those in front of background no earlier viewpoint
+  // measured; then those movable before cleaning; and of the rest
+  // the merge's decision at the pixel (MergeDecision; of the earlier model that moved the background back, if any,
+  // else of the last one merged).
+  std::size_t fn_within_theta = 0;
+  std::size_t fn_unknown_background = 0;  // of MergeCaseResult::unknown_background_pixels
+  std::size_t fn_cleaned_away = 0;
+  std::array<std::size_t, static_cast<std::size_t>(engine::MergeDecision::kCount)> fn_by_decision{};
 };
 
 struct MergeCaseResult {
