@@ -2,35 +2,15 @@
 #include <cmath>
 
 #include "api/http_api.h"
+#include "api/route_params.h"
 #include "schema/error.h"
 
 namespace anchordb::api {
+using namespace params;
+
 namespace {
 
-Response JsonResponse(const Json& j, int status = 200) { return {status, "application/json", j.dump(), {}}; }
-
-std::int64_t GraphId(const PathParams& p) {
-  const std::string& text = p["graph"];
-  if (text.empty() || text.size() > 18 || text.find_first_not_of("0123456789") != std::string::npos) {
-    throw Error(ErrorCode::kNotFound, "furniture graph '" + text + "' does not exist (ids are integers)", "graph");
-  }
-  return std::stoll(text);
-}
-
-// An integer query parameter in [lo, hi], or `fallback` when absent.
-std::int64_t QueryInteger(const httplib::Request& req, const std::string& name, std::int64_t fallback, std::int64_t lo,
-                          std::int64_t hi) {
-  if (!req.has_param(name)) return fallback;
-  const std::string text = req.get_param_value(name);
-  if (text.empty() || text.size() > 18 || text.find_first_not_of("0123456789") != std::string::npos) {
-    throw Error(ErrorCode::kInvalidArgument, name + " must be a non-negative integer", name);
-  }
-  const std::int64_t v = std::stoll(text);
-  if (v < lo || v > hi) {
-    throw Error(ErrorCode::kUnprocessable, name + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", name);
-  }
-  return v;
-}
+std::int64_t GraphId(const PathParams& p) { return PathId(p, "graph", "furniture graph"); }
 
 }  // namespace
 

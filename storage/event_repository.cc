@@ -5,14 +5,6 @@
 namespace anchordb::storage {
 namespace {
 
-void BindOptional(Statement& s, int i, const std::optional<std::int64_t>& v) {
-  if (v) s.Bind(i, *v); else s.BindNull(i);
-}
-std::optional<std::int64_t> OptionalInt(const Statement& s, int c) {
-  if (s.IsNull(c)) return std::nullopt;
-  return s.Int(c);
-}
-
 constexpr const char* kSegmentColumns =
     "id, map_id, keyframe_id, x_m, y_m, z_m, min_x_m, min_y_m, min_z_m, max_x_m, max_y_m, max_z_m, points, sample";
 

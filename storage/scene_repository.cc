@@ -5,15 +5,6 @@
 namespace anchordb::storage {
 namespace {
 
-void BindOptional(Statement& s, int i, const std::optional<std::int64_t>& v) {
-  if (v) s.Bind(i, *v); else s.BindNull(i);
-}
-
-std::optional<std::int64_t> OptionalInt(const Statement& s, int c) {
-  if (s.IsNull(c)) return std::nullopt;
-  return s.Int(c);
-}
-
 constexpr const char* kSceneColumns =
     "id, map_id, status, superseded_by, intrinsics, pose, x_m, y_m, z_m, params, merge_report, started_ns, ended_ns, "
     "last_frame_ns, frames, state_version, forgotten_ns";

@@ -76,6 +76,16 @@ class Transaction {
   bool done_ = false;
 };
 
+// NULL for nullopt, and back.
+inline void BindOptional(Statement& s, int index, const std::optional<std::int64_t>& v) {
+  if (v) s.Bind(index, *v);
+  else s.BindNull(index);
+}
+inline std::optional<std::int64_t> OptionalInt(const Statement& s, int column) {
+  if (s.IsNull(column)) return std::nullopt;
+  return s.Int(column);
+}
+
 [[noreturn]] void ThrowSqliteError(sqlite3* db, int rc, std::string_view what);
 
 }  // namespace anchordb::storage
