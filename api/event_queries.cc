@@ -200,13 +200,11 @@ Json EventService::ListInstances(const std::string& map, const std::optional<std
                                  const storage::InstanceFilter& f) {
   return store_.Read([&](storage::Connection& c) {
     RequireMap(c, map);
-    const std::string wanted = label ? NormaliseLabel(*label, settings_.max_label_length, "label") : "";
+    storage::InstanceFilter filter = f;
+    if (label) filter.label = NormaliseLabel(*label, settings_.max_label_length, "label");
     Json list = Json::array();
-    const auto records = storage::ListInstances(c, map, f, false);
-    for (const auto& r : records) {
-      if (label && LabelProbability(r.labels_json, wanted) <= 0.0) continue;
-      list.push_back(InstanceJson(r));
-    }
+    const auto records = storage::ListInstances(c, map, filter, false);
+    for (const auto& r : records) list.push_back(InstanceJson(r));
     Json out = {{"instances", list}};
     if (static_cast<int>(records.size()) == f.limit) out["next_after"] = records.back().id;
     return out;
@@ -255,10 +253,14 @@ Json EventService::Where(const std::string& map, const std::string& raw_label, s
   const std::string label = NormaliseLabel(raw_label, settings_.max_label_length, "label");
   const std::int64_t now = NowNs();
   if (at_ns && *at_ns > now) throw Error(ErrorCode::kUnprocessable, "at lies in the future; where answers for the past and now", "at");
+  // One read lease for the answer and the furniture it may be placed against.
+  std::vector<engine::FurniturePiece> pieces;
+  engine::grounding::Viewpoint viewer;  // for plain geometry: the camera that saw the object last (else the origin)
   Json out = store_.Read([&](storage::Connection& c) -> Json {
     RequireMap(c, map);
     storage::InstanceFilter f;
     f.kind = "object";
+    f.label = label;
     f.limit = 100000;
     std::optional<storage::InstanceRecord> best;
     std::optional<storage::HistoryRecord> best_h;
@@ -266,11 +268,7 @@ Json EventService::Where(const std::string& map, const std::string& raw_label, s
     for (const auto& r : storage::ListInstances(c, map, f, false)) {
       const double p = LabelProbability(r.labels_json, label);
       if (p <= 0.0) continue;
-      const auto h = at_ns ? storage::HistoryAt(c, r.id, *at_ns) : [&]() -> std::optional<storage::HistoryRecord> {
-        auto all = storage::ListHistory(c, r.id);
-        if (all.empty()) return std::nullopt;
-        return all.back();
-      }();
+      const auto h = storage::HistoryAt(c, r.id, at_ns.value_or(std::numeric_limits<std::int64_t>::max()));
       if (!h) continue;
       if (!best || p > best_p + 1e-9 || (std::abs(p - best_p) <= 1e-9 && h->stamp_ns > best_h->stamp_ns)) best = r, best_h = h, best_p = p;
     }
@@ -285,6 +283,23 @@ Json EventService::Where(const std::string& map, const std::string& raw_label, s
         how = e->type == "moved" ? "inferred" : e->detection;
       }
     }
+    if (best->last_scene_id) {
+      if (const auto scene = storage::FindScene(c, map, *best->last_scene_id, false)) {
+        const Pose3 pose = json::AsPose3(Json::parse(scene->pose_json), "pose");
+        const Eigen::Vector3d axis = pose.orientation * Eigen::Vector3d::UnitZ();  // the optical axis in the map
+        viewer.position_m = pose.position_m.head<2>();
+        viewer.heading_rad = std::atan2(axis.y(), axis.x());
+      }
+    }
+    // Furniture an operator entered, for plain-geometry placement when the map has no furniture graph.
+    storage::InstanceFilter furniture;
+    furniture.kind = "furniture";
+    furniture.limit = 10000;
+    for (const auto& r : storage::ListInstances(c, map, furniture, false)) {
+      const Json d = Distribution(r.labels_json);
+      pieces.push_back({std::to_string(r.id), d.empty() ? "furniture" : d.begin().key(), {r.position[0], r.position[1]},
+                        {r.extent[0], r.extent[1]}, r.yaw_rad});
+    }
     // Confidence: how sure the label is, times how the position is known (seen, merged from another visit, inferred).
     const double position_confidence = how == "observed" ? 0.95 : how == "meanwhile" ? 0.85 : how == "inferred" ? 0.7 : 0.8;
     return Json{{"label", label}, {"instance", best->id}, {"present", best_h->present},
@@ -295,21 +310,8 @@ Json EventService::Where(const std::string& map, const std::string& raw_label, s
   const Eigen::Vector3d p(out["position_m"][0].get<double>(), out["position_m"][1].get<double>(), out["position_m"][2].get<double>());
   std::optional<Json> place = furniture_ ? furniture_->Place(map, p) : std::nullopt;
   if (!place) {  // plain geometry: the nearest furniture instance an operator entered
-    const auto pieces = store_.Read([&](storage::Connection& c) {
-      storage::InstanceFilter f;
-      f.kind = "furniture";
-      f.limit = 10000;
-      return storage::ListInstances(c, map, f, false);
-    });
-    std::vector<engine::FurniturePiece> list;
-    for (const auto& r : pieces) {
-      const Json d = Distribution(r.labels_json);
-      list.push_back({std::to_string(r.id), d.empty() ? "furniture" : d.begin().key(), {r.position[0], r.position[1]},
-                      {r.extent[0], r.extent[1]}, r.yaw_rad});
-    }
+    const std::vector<engine::FurniturePiece>& list = pieces;
     if (!list.empty()) {
-      // Seen from the camera the object was last seen from, else from the map origin.
-      engine::grounding::Viewpoint viewer;
       const engine::Placement placed = engine::PlaceObject(p, list, viewer);
       const auto& piece = list[static_cast<std::size_t>(placed.piece)];
       place = Json{{"furniture_instance", std::stoll(piece.id)}, {"name", piece.name}, {"gap_m", placed.gap_m},

@@ -1,4 +1,5 @@
 // anchordb: the spatial memory server. Subcommands: serve, token create, forget, version.
+#include <malloc.h>
 #include <signal.h>
 
 #include <chrono>
@@ -58,6 +59,10 @@ storage::StoreOptions StoreOptionsOf(const Config& c) {
 }
 
 int Serve(const Config& config) {
+  // glibc gives freed memory back to the kernel eagerly (madvise per thread arena): under concurrent short requests
+  // that is page faults and TLB shootdowns on every request. A server keeps what it had.
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
   const bool loopback = IsLoopback(config.bind);
   if (!loopback && config.auth == "off") {
     std::cerr << "anchordb: refusing to serve " << config.bind << " with auth=off; only loopback may run open\n";

@@ -131,11 +131,13 @@ std::vector<InstanceRecord> ListInstances(Connection& c, const std::string& map_
   if (f.kind) sql += " AND kind = ?3";
   if (f.status) sql += " AND status = ?4";
   else if (!f.include_deleted) sql += " AND status != 'deleted'";
+  if (f.label) sql += " AND id IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1 AND label = ?6)";
   sql += " ORDER BY id LIMIT ?5";
   Statement s(c, sql);
   s.Bind(1, map_id).Bind(2, f.after_id).Bind(5, static_cast<std::int64_t>(f.limit));
   if (f.kind) s.Bind(3, *f.kind);
   if (f.status) s.Bind(4, *f.status);
+  if (f.label) s.Bind(6, *f.label);
   std::vector<InstanceRecord> out;
   while (s.Step()) out.push_back(ReadInstance(s, with_sample));
   return out;

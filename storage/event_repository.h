@@ -48,6 +48,7 @@ struct InstanceFilter {
   std::optional<std::string> kind;
   std::optional<std::string> status;      // exact; default: everything but 'deleted'
   bool include_deleted = false;
+  std::optional<std::string> label;       // only instances whose label distribution has this label
   std::int64_t after_id = 0;
   int limit = 100;
 };

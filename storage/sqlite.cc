@@ -12,7 +12,20 @@ void ThrowSqliteError(sqlite3* db, int rc, std::string_view what) {
   throw Error(ErrorCode::kInternal, message);
 }
 
+namespace {
+// Process-wide settings, before SQLite initialises: no memory statistics (with them every sqlite3_malloc takes one
+// global mutex that concurrent readers queue on; where-is under wrk went from 2.5k to 5k req/s without it).
+void ConfigureSqliteOnce() {
+  static const bool configured = [] {
+    sqlite3_config(SQLITE_CONFIG_MEMSTATUS, 0);
+    return true;
+  }();
+  (void)configured;
+}
+}  // namespace
+
 Connection::Connection(const std::string& path, const ConnectionOptions& options) {
+  ConfigureSqliteOnce();
   const int flags = (options.read_only ? SQLITE_OPEN_READONLY : (SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE)) |
                     SQLITE_OPEN_NOMUTEX;
   const int rc = sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
@@ -31,7 +44,26 @@ Connection::Connection(const std::string& path, const ConnectionOptions& options
   }
 }
 
-Connection::~Connection() { sqlite3_close_v2(db_); }
+Connection::~Connection() {
+  for (auto& [sql, stmt] : statement_cache_) sqlite3_finalize(stmt);
+  sqlite3_close_v2(db_);
+}
+
+sqlite3_stmt* Connection::TakeCached(std::string_view sql) const {
+  auto it = statement_cache_.find(std::string(sql));
+  if (it == statement_cache_.end()) return nullptr;
+  sqlite3_stmt* stmt = it->second;
+  statement_cache_.erase(it);
+  return stmt;
+}
+
+void Connection::ReturnToCache(sqlite3_stmt* stmt) const {
+  constexpr std::size_t kMaxCached = 256;
+  sqlite3_reset(stmt);
+  sqlite3_clear_bindings(stmt);
+  const char* sql = sqlite3_sql(stmt);
+  if (!sql || statement_cache_.size() >= kMaxCached || !statement_cache_.emplace(sql, stmt).second) sqlite3_finalize(stmt);
+}
 
 void Connection::Exec(std::string_view sql) {
   char* err = nullptr;
@@ -43,12 +75,20 @@ void Connection::Exec(std::string_view sql) {
   }
 }
 
-Statement::Statement(const Connection& connection, std::string_view sql) : db_(connection.handle()) {
-  const int rc = sqlite3_prepare_v2(db_, sql.data(), static_cast<int>(sql.size()), &stmt_, nullptr);
-  if (rc != SQLITE_OK) ThrowSqliteError(db_, rc, "prepare");
+Statement::Statement(const Connection& connection, std::string_view sql)
+    : connection_(connection), db_(connection.handle()), stmt_(connection.TakeCached(sql)) {
+  if (stmt_) return;
+  const int rc = sqlite3_prepare_v3(db_, sql.data(), static_cast<int>(sql.size()), SQLITE_PREPARE_PERSISTENT, &stmt_, nullptr);
+  if (rc != SQLITE_OK) {
+    sqlite3_finalize(stmt_);
+    stmt_ = nullptr;
+    ThrowSqliteError(db_, rc, "prepare");
+  }
 }
 
-Statement::~Statement() { sqlite3_finalize(stmt_); }
+Statement::~Statement() {
+  if (stmt_) connection_.ReturnToCache(stmt_);
+}
 
 Statement& Statement::Bind(int i, std::int64_t v) {
   if (int rc = sqlite3_bind_int64(stmt_, i, v); rc != SQLITE_OK) ThrowSqliteError(db_, rc, "bind");

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 namespace anchordb::storage {
@@ -31,7 +32,14 @@ class Connection {
   std::int64_t Changes() const { return sqlite3_changes64(db_); }
 
  private:
+  friend class Statement;
+  // Prepared statements are kept per connection, one per SQL text, and reused: preparing (parsing, planning) was
+  // the largest cost of short read queries. A connection is used by one thread at a time (Store leases it).
+  sqlite3_stmt* TakeCached(std::string_view sql) const;
+  void ReturnToCache(sqlite3_stmt* stmt) const;
+
   sqlite3* db_ = nullptr;
+  mutable std::unordered_map<std::string, sqlite3_stmt*> statement_cache_;
 };
 
 class Statement {
@@ -60,6 +68,7 @@ class Statement {
   bool IsNull(int column) const { return sqlite3_column_type(stmt_, column) == SQLITE_NULL; }
 
  private:
+  const Connection& connection_;
   sqlite3* db_;
   sqlite3_stmt* stmt_ = nullptr;
 };

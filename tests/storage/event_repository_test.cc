@@ -1,0 +1,119 @@
+// Instances, their label index (migration 0005, kept by triggers), history at a time, events with evidence, and the
+// per-connection statement cache, on a real SQLite file.
+#include "storage/event_repository.h"
+
+#include <gtest/gtest.h>
+
+#include "schema/error.h"
+
+#include "storage/repositories.h"
+#include "storage/store.h"
+#include "tests/support/temp_dir.h"
+
+namespace anchordb::storage {
+namespace {
+
+class EventRepositoryTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    StoreOptions o;
+    o.path = dir_.File("db.sqlite");
+    o.reader_connections = 1;
+    store_ = std::make_unique<Store>(o);
+    store_->Write([](Connection& c) {
+      InsertMap(c, {"home", "home", 1});
+      InsertMap(c, {"other", "other", 1});
+    });
+  }
+  static InstanceRecord Object(const std::string& map, const std::string& labels) {
+    InstanceRecord r;
+    r.map_id = map;
+    r.labels_json = labels;
+    r.created_ns = r.updated_ns = r.last_seen_ns = 10;
+    return r;
+  }
+  std::vector<std::int64_t> WithLabel(const std::string& map, const std::string& label) {
+    return store_->Read([&](Connection& c) {
+      InstanceFilter f;
+      f.label = label;
+      std::vector<std::int64_t> ids;
+      for (const auto& r : ListInstances(c, map, f, false)) ids.push_back(r.id);
+      return ids;
+    });
+  }
+
+  testing::TempDir dir_;
+  std::unique_ptr<Store> store_;
+};
+
+TEST_F(EventRepositoryTest, LabelIndexFollowsEveryChangeOfTheLabels) {
+  const auto [keys, cup, elsewhere] = store_->Write([](Connection& c) {
+    return std::make_tuple(InsertInstance(c, Object("home", R"({"keys":2.0,"wallet":1.0})")),
+                           InsertInstance(c, Object("home", R"({"cup":1.0})")),
+                           InsertInstance(c, Object("other", R"({"keys":1.0})")));
+  });
+  EXPECT_EQ(WithLabel("home", "keys"), std::vector<std::int64_t>{keys});
+  EXPECT_EQ(WithLabel("home", "wallet"), std::vector<std::int64_t>{keys});
+  EXPECT_EQ(WithLabel("other", "keys"), std::vector<std::int64_t>{elsewhere});
+  EXPECT_TRUE(WithLabel("home", "spoon").empty());
+  store_->Write([&](Connection& c) {
+    auto r = *FindInstance(c, "home", cup, false);
+    r.labels_json = R"({"keys":1.0})";  // relabelled: now also a candidate for the keys
+    UpdateInstance(c, r);
+    auto k = *FindInstance(c, "home", keys, false);
+    k.labels_json = R"({"wallet":1.0})";
+    UpdateInstance(c, k);
+  });
+  EXPECT_EQ(WithLabel("home", "keys"), std::vector<std::int64_t>{cup});
+  EXPECT_EQ(WithLabel("home", "wallet"), std::vector<std::int64_t>{keys});
+  EXPECT_TRUE(WithLabel("home", "cup").empty());
+  // The index equals the JSON for every instance.
+  const auto mismatches = store_->Read([](Connection& c) {
+    Statement s(c, "SELECT COUNT(*) FROM (SELECT i.id, j.key FROM instances i, json_each(i.labels) j EXCEPT "
+                   "SELECT instance_id, label FROM instance_labels) ");
+    s.Step();
+    return s.Int(0);
+  });
+  EXPECT_EQ(mismatches, 0);
+}
+
+TEST_F(EventRepositoryTest, HistoryAtATimeAndEventsWithEvidence) {
+  const std::int64_t id = store_->Write([](Connection& c) {
+    const std::int64_t i = InsertInstance(c, Object("home", "{}"));
+    AppendHistory(c, {i, 0, 100, true, {1, 2, 3}, std::nullopt});
+    AppendHistory(c, {i, 0, 200, false, {1, 2, 3}, std::nullopt});
+    AppendHistory(c, {i, 0, 300, true, {4, 5, 6}, std::nullopt});
+    return i;
+  });
+  store_->Read([&](Connection& c) {
+    EXPECT_FALSE(HistoryAt(c, id, 99).has_value());
+    EXPECT_TRUE(HistoryAt(c, id, 150)->present);
+    EXPECT_FALSE(HistoryAt(c, id, 250)->present);
+    EXPECT_EQ(HistoryAt(c, id, 1000)->position[0], 4.0);
+    EXPECT_EQ(ListHistory(c, id).back().seq, 3);
+  });
+  // Events: evidence must name existing keyframes (a foreign key), so an event citing none is refused.
+  EventRecord e;
+  e.map_id = "home";
+  e.type = "added";
+  e.detection = "observed";
+  e.instance_id = id;
+  e.evidence = {{12345, "after"}};
+  EXPECT_THROW(store_->Write([&](Connection& c) { InsertEvent(c, e); }), Error);
+  e.evidence.clear();
+  const std::int64_t event = store_->Write([&](Connection& c) { return InsertEvent(c, e); });
+  // The same statement text run many times on one connection (the statement cache) gives fresh results each time.
+  for (int k = 0; k < 50; ++k) {
+    store_->Read([&](Connection& c) {
+      EventFilter f;
+      f.instance_id = id;
+      const auto list = ListEvents(c, "home", f);
+      ASSERT_EQ(list.size(), 1u);
+      EXPECT_EQ(list[0].id, event);
+      EXPECT_FALSE(FindEvent(c, "home", event + 1 + k).has_value());
+    });
+  }
+}
+
+}  // namespace
+}  // namespace anchordb::storage
