@@ -13,7 +13,7 @@ struct IcpParams {
   double voxel_m = 0.03;                    // both clouds are downsampled with a voxel grid of this size first
   double max_correspondence_m = 0.10;       // covers the expected pose error (a few cm, a few degrees) plus noise
   int max_iterations = 40;
-  double transformation_epsilon = 1e-8;     // stop when the transform changes less than this (squared; PCL also
+  double transformation_epsilon = 1e-7;     // stop when the transform changes less than this (squared; PCL also
                                             // takes 1 - this as the cosine bound of the rotation step)
   double coarse_transformation_epsilon = 1e-6;  // the same for the coarse pass (1 mm, ~0.1 deg): it only has to come
                                                 // close, and on some views it otherwise oscillates to max_iterations
