@@ -8,6 +8,7 @@
 #include "engine/events/placement.h"
 #include "schema/error.h"
 #include "storage/blob_codec.h"
+#include "storage/furniture_repository.h"
 #include "storage/scene_repository.h"
 
 namespace anchordb::api {
@@ -256,6 +257,7 @@ Json EventService::Where(const std::string& map, const std::string& raw_label, s
   // One read lease for the answer and the furniture it may be placed against.
   std::vector<engine::FurniturePiece> pieces;
   engine::grounding::Viewpoint viewer;  // for plain geometry: the camera that saw the object last (else the origin)
+  std::optional<std::int64_t> graph;    // the map's newest furniture graph
   Json out = store_.Read([&](storage::Connection& c) -> Json {
     RequireMap(c, map);
     storage::InstanceFilter f;
@@ -291,6 +293,7 @@ Json EventService::Where(const std::string& map, const std::string& raw_label, s
         viewer.heading_rad = std::atan2(axis.y(), axis.x());
       }
     }
+    graph = storage::NewestFurnitureGraphId(c, map);
     // Furniture an operator entered, for plain-geometry placement when the map has no furniture graph.
     storage::InstanceFilter furniture;
     furniture.kind = "furniture";
@@ -308,7 +311,7 @@ Json EventService::Where(const std::string& map, const std::string& raw_label, s
                 {"at_ns", at_ns ? Json(*at_ns) : Json(nullptr)}};
   });
   const Eigen::Vector3d p(out["position_m"][0].get<double>(), out["position_m"][1].get<double>(), out["position_m"][2].get<double>());
-  std::optional<Json> place = furniture_ ? furniture_->Place(map, p) : std::nullopt;
+  std::optional<Json> place = furniture_ && graph ? furniture_->Place(map, p, graph) : std::nullopt;
   if (!place) {  // plain geometry: the nearest furniture instance an operator entered
     const std::vector<engine::FurniturePiece>& list = pieces;
     if (!list.empty()) {

@@ -457,10 +457,11 @@ Json FurnitureService::Describe(const std::string& map, std::int64_t id, const J
           {"hypotheses", graph->set.ranked.size()}};
 }
 
-std::optional<Json> FurnitureService::Place(const std::string& map, const Eigen::Vector3d& p_M) {
-  const auto newest = store_.Read([&](storage::Connection& c) { return storage::ListFurnitureGraphs(c, map, 0, 1); });
-  if (newest.empty()) return std::nullopt;
-  auto graph = Acquire(map, newest.front().id);
+std::optional<Json> FurnitureService::Place(const std::string& map, const Eigen::Vector3d& p_M,
+                                            std::optional<std::int64_t> graph_id) {
+  if (!graph_id) graph_id = store_.Read([&](storage::Connection& c) { return storage::NewestFurnitureGraphId(c, map); });
+  if (!graph_id) return std::nullopt;
+  auto graph = Acquire(map, *graph_id);
   std::lock_guard<std::mutex> lock(graph->mutex);
   const g::Hypothesis& best = graph->set.ranked.front();
   const int k = graph->graph.category_count;

@@ -45,7 +45,8 @@ class FurnitureService {
   // Where a thing at p_M stands relative to the furniture of the map's newest graph, in the words the grounding
   // model of that graph's listener prefers (SPEC §4.4): {graph, furniture, category, name, relation, frame, gap_m,
   // phrase}. Nullopt when the map has no furniture graph.
-  std::optional<Json> Place(const std::string& map, const Eigen::Vector3d& p_M);
+  // `graph`: the graph to use when the caller already knows the newest one (saves a database read).
+  std::optional<Json> Place(const std::string& map, const Eigen::Vector3d& p_M, std::optional<std::int64_t> graph = {});
 
   // The knowledge new graphs are created with, as a document.
   const Json& knowledge() const { return knowledge_doc_; }

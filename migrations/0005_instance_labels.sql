@@ -16,3 +16,5 @@ CREATE TRIGGER instance_labels_update AFTER UPDATE OF labels ON instances WHEN o
   DELETE FROM instance_labels WHERE instance_id = new.id;
   INSERT INTO instance_labels (instance_id, map_id, label) SELECT new.id, new.map_id, key FROM json_each(new.labels);
 END;
+-- Instances by kind (where-is reads the furniture of a map, the objects with a label).
+CREATE INDEX instances_by_kind ON instances (map_id, kind, id);

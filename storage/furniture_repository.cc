@@ -86,4 +86,11 @@ void DeleteGraphDescriptions(Connection& c, std::int64_t graph_id) {
   s.Bind(1, graph_id).Run();
 }
 
+std::optional<std::int64_t> NewestFurnitureGraphId(Connection& c, const std::string& map_id) {
+  Statement s(c, "SELECT MAX(id) FROM furniture_graphs WHERE map_id = ?");
+  s.Bind(1, map_id);
+  if (!s.Step()) return std::nullopt;
+  return OptionalInt(s, 0);
+}
+
 }  // namespace anchordb::storage

@@ -28,6 +28,8 @@ struct FurnitureGraphRecord {
 std::int64_t InsertFurnitureGraph(Connection& c, const FurnitureGraphRecord& graph);
 std::optional<FurnitureGraphRecord> FindFurnitureGraph(Connection& c, const std::string& map_id, std::int64_t id,
                                                        bool with_hypotheses);
+// The id of the map's newest graph, if any.
+std::optional<std::int64_t> NewestFurnitureGraphId(Connection& c, const std::string& map_id);
 // Graphs of a map with id < before_id (0 = from the newest), newest first, at most `limit`; no hypotheses.
 std::vector<FurnitureGraphRecord> ListFurnitureGraphs(Connection& c, const std::string& map_id, std::int64_t before_id,
                                                       int limit);

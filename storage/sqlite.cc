@@ -137,6 +137,16 @@ std::string Statement::Blob(int c) const {
   return p ? std::string(static_cast<const char*>(p), sqlite3_column_bytes(stmt_, c)) : std::string();
 }
 
+ReadTransaction::ReadTransaction(Connection& connection) : connection_(connection) { Statement(connection_, "BEGIN").Run(); }
+
+ReadTransaction::~ReadTransaction() {
+  try {
+    Statement(connection_, "ROLLBACK").Run();
+  } catch (...) {
+    // Ending a read transaction cannot lose anything; a failure leaves SQLite to end it at the next BEGIN or close.
+  }
+}
+
 Transaction::Transaction(Connection& connection) : connection_(connection) { connection_.Exec("BEGIN IMMEDIATE"); }
 
 Transaction::~Transaction() {

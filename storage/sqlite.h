@@ -85,6 +85,19 @@ class Transaction {
   bool done_ = false;
 };
 
+// BEGIN (deferred) ... end: the statements run inside share one read snapshot (a consistent answer across several
+// queries) and one set of file locks instead of one per statement. Ends in the destructor; nothing to commit.
+class ReadTransaction {
+ public:
+  explicit ReadTransaction(Connection& connection);
+  ~ReadTransaction();
+  ReadTransaction(const ReadTransaction&) = delete;
+  ReadTransaction& operator=(const ReadTransaction&) = delete;
+
+ private:
+  Connection& connection_;
+};
+
 // NULL for nullopt, and back.
 inline void BindOptional(Statement& s, int index, const std::optional<std::int64_t>& v) {
   if (v) s.Bind(index, *v);

@@ -25,10 +25,12 @@ class Store {
   explicit Store(const StoreOptions& options);
   ~Store();
 
-  // Runs `fn` on a reader connection (blocks while all readers are leased).
+  // Runs `fn` on a reader connection (blocks while all readers are leased) inside one read transaction: every
+  // query of `fn` sees the same snapshot.
   template <typename F>
   auto Read(F&& fn) {
     Lease lease(*this);
+    ReadTransaction snapshot(*lease.connection);
     return fn(*lease.connection);
   }
 
