@@ -1,10 +1,11 @@
 #include "sim/scenario_driver.h"
 
 #include <httplib.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include <stdexcept>
 
-#include "engine/scene/depth_image.h"
 #include "sim/apartment.h"
 
 namespace anchordb::sim {
@@ -64,6 +65,20 @@ Primitive PersonBeside(const Eigen::Vector3d& surface, const Eigen::Isometry3d& 
   return body;
 }
 
+namespace {
+
+// The tracker's dynamic mask as an 8-bit PNG (0 / 255), written here rather than with the server's own codec: the
+// scenario must not share code with what it tests.
+std::string MaskPng(const std::vector<std::uint8_t>& mask, int width, int height) {
+  cv::Mat m(height, width, CV_8U);
+  for (std::size_t i = 0; i < mask.size(); ++i) m.data[i] = mask[i] ? 255 : 0;
+  std::vector<std::uint8_t> png;
+  cv::imencode(".png", m, png);
+  return std::string(png.begin(), png.end());
+}
+
+}  // namespace
+
 ScenarioDriver::ScenarioDriver(httplib::Client& client, std::string map, std::function<void(const std::string&)> log)
     : client_(client), map_(std::move(map)), log_(std::move(log)) {}
 
@@ -95,7 +110,7 @@ json ScenarioDriver::Observe(const std::string& what, const Eigen::Isometry3d& X
     for (std::size_t p = 0; p < mask.size(); ++p) mask[p] = f.object_id[p] == kPersonId;
     httplib::MultipartFormDataItems items = {
         {"depth", std::string(reinterpret_cast<const char*>(f.depth_mm.data()), f.depth_mm.size() * 2), "depth.raw", "application/octet-stream"}};
-    if (person) items.push_back({"dynamic", engine::EncodeMaskPng(mask, K.width, K.height), "dynamic.png", "image/png"});
+    if (person) items.push_back({"dynamic", MaskPng(mask, K.width, K.height), "dynamic.png", "image/png"});
     const std::string path = base + "/frames?stamp=" + std::to_string(start_ns + i * 33'000'000LL);
     auto r = client_.Post(path, items);
     if (!r || r->status != 200) throw std::runtime_error("POST " + path + ": " + (r ? r->body : std::string("no response")));
