@@ -21,6 +21,24 @@ std::int64_t NowNs() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
+PinholeIntrinsics IntrinsicsOf(const std::string& intrinsics_json) {
+  const Json j = Json::parse(intrinsics_json);
+  return {j.at("width").get<int>(), j.at("height").get<int>(), j.at("fx").get<double>(),
+          j.at("fy").get<double>(), j.at("cx").get<double>(), j.at("cy").get<double>()};
+}
+
+// A stored array as `T`s; `count` > 0 insists on that many (the model's camera).
+template <typename T>
+std::vector<T> DecodeArray(const std::string& blob, std::size_t count = 0) {
+  const auto d = storage::DecodeBlob(blob);
+  if (d.bytes.size() % sizeof(T) != 0 || (count && d.bytes.size() != count * sizeof(T))) {
+    throw Error(ErrorCode::kInternal, "stored array does not match the camera");
+  }
+  std::vector<T> out(d.bytes.size() / sizeof(T));
+  std::memcpy(out.data(), d.bytes.data(), d.bytes.size());
+  return out;
+}
+
 std::string EncodePoints(const std::vector<Eigen::Vector3f>& points) {
   std::vector<float> flat;
   flat.reserve(points.size() * 3);
@@ -31,9 +49,7 @@ std::string EncodePoints(const std::vector<Eigen::Vector3f>& points) {
 std::vector<Eigen::Vector3f> DecodePoints(const std::string& blob) {
   std::vector<Eigen::Vector3f> out;
   if (blob.empty()) return out;
-  const auto d = storage::DecodeBlob(blob);
-  std::vector<float> flat(d.bytes.size() / sizeof(float));
-  std::memcpy(flat.data(), d.bytes.data(), flat.size() * sizeof(float));
+  const std::vector<float> flat = DecodeArray<float>(blob);
   for (std::size_t i = 0; i + 2 < flat.size(); i += 3) out.emplace_back(flat[i], flat[i + 1], flat[i + 2]);
   return out;
 }
@@ -49,6 +65,7 @@ std::string Fixed(double v, int digits = 2) {
 std::string Position(const Eigen::Vector3d& p) { return "(" + Fixed(p.x()) + ", " + Fixed(p.y()) + ", " + Fixed(p.z()) + ")"; }
 
 Eigen::Vector3d Vec(const double* v) { return {v[0], v[1], v[2]}; }
+
 
 std::int64_t StoreSegment(storage::Connection& c, const std::string& map, std::int64_t keyframe, const engine::Segment& s) {
   storage::SegmentRecord r;
@@ -271,15 +288,11 @@ Json EventService::AnalyseLayer(storage::Connection& c, const KeyframeNotice& n)
   engine::ChangeParams p = settings_.change;
   p.beta = n.beta;
   // The keyframe that opened this layer: the latest of the scene before this one.
-  storage::Statement prev_q(c, "SELECT id FROM keyframes WHERE scene_id = ? AND id < ? ORDER BY id DESC LIMIT 1");
-  prev_q.Bind(1, n.scene_id).Bind(2, n.keyframe_id);
-  if (!prev_q.Step()) return {{"events", events}, {"segments", 0}};
-  const auto prev = storage::FindKeyframe(c, n.map, prev_q.Int(0), true);
+  const auto previous = storage::PreviousKeyframeId(c, n.scene_id, n.keyframe_id);
+  if (!previous) return {{"events", events}, {"segments", 0}};
+  const auto prev = storage::FindKeyframe(c, n.map, *previous, true);
   const std::size_t count = static_cast<std::size_t>(n.K.width) * n.K.height;
-  const auto decoded = storage::DecodeBlob(prev->depth);
-  if (decoded.bytes.size() != count * 2) throw Error(ErrorCode::kInternal, "stored keyframe does not match the camera");
-  std::vector<std::uint16_t> before_mm(count);
-  std::memcpy(before_mm.data(), decoded.bytes.data(), decoded.bytes.size());
+  const std::vector<std::uint16_t> before_mm = DecodeArray<std::uint16_t>(prev->depth, count);
   const engine::ChangeMasks masks = engine::CompareKeyframes(before_mm, *n.depth_mm, *n.background_mm, n.K.width, n.K.height, p);
   engine::ChangeParams no_clean = p;
   no_clean.clean = false;  // CompareKeyframes cleaned already
@@ -376,21 +389,13 @@ Json EventService::Reanalyse(const std::string& map, std::int64_t keyframe_id, c
     if (newer->background.empty() || newer->started_ns < kf->stamp_ns) {
       throw Error(ErrorCode::kConflict, "scene " + std::to_string(newer->id) + " is not newer than the keyframe or has no background", "scene");
     }
-    const Json Kj = Json::parse(newer->intrinsics_json);
-    const PinholeIntrinsics K_new{Kj.at("width").get<int>(), Kj.at("height").get<int>(), Kj.at("fx").get<double>(),
-                                  Kj.at("fy").get<double>(), Kj.at("cx").get<double>(), Kj.at("cy").get<double>()};
-    const auto bg = storage::DecodeBlob(newer->background);
-    std::vector<float> background_m(bg.bytes.size() / sizeof(float));
-    std::memcpy(background_m.data(), bg.bytes.data(), background_m.size() * sizeof(float));
-    const Json Ko = Json::parse(own->intrinsics_json);
-    const PinholeIntrinsics K{Ko.at("width").get<int>(), Ko.at("height").get<int>(), Ko.at("fx").get<double>(),
-                              Ko.at("fy").get<double>(), Ko.at("cx").get<double>(), Ko.at("cy").get<double>()};
+    const PinholeIntrinsics K_new = IntrinsicsOf(newer->intrinsics_json);
+    const std::vector<float> background_m = DecodeArray<float>(newer->background);
+    const PinholeIntrinsics K = IntrinsicsOf(own->intrinsics_json);
     const Eigen::Isometry3d X_MC = engine::ToIsometry(own_pose);
     const auto rendered = engine::RenderDepthMm(
         engine::BackProject(background_m, K_new, engine::ToIsometry(json::AsPose3(Json::parse(newer->pose_json), "pose"))), K, X_MC);
-    const auto d = storage::DecodeBlob(kf->depth);
-    std::vector<std::uint16_t> depth_mm(d.bytes.size() / 2);
-    std::memcpy(depth_mm.data(), d.bytes.data(), d.bytes.size());
+    const std::vector<std::uint16_t> depth_mm = DecodeArray<std::uint16_t>(kf->depth);
     engine::ChangeParams p = settings_.change;
     p.beta = Json::parse(own->params_json).value("beta", p.beta);
     const auto front = engine::InFrontOfBackground(depth_mm, rendered, p);

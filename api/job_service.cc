@@ -1,5 +1,7 @@
 #include "api/job_service.h"
 
+#include "storage/job_repository.h"
+
 #include <chrono>
 
 #include "schema/error.h"
@@ -17,27 +19,15 @@ std::int64_t NowNs() {
 
 void SetJobStatus(storage::Connection& c, std::int64_t id, const std::string& status, const std::string& stage,
                   double progress, const Json* result, const std::string* error) {
-  storage::Statement s(c,
-                       "UPDATE jobs SET status = ?, stage = ?, progress = ?, result = coalesce(?, result), "
-                       "error = ?, updated_ns = ? WHERE id = ?");
-  s.Bind(1, status).Bind(2, stage).Bind(3, progress);
-  if (result) s.Bind(4, result->dump());
-  else s.BindNull(4);
-  if (error) s.Bind(5, *error);
-  else s.BindNull(5);
-  s.Bind(6, NowNs()).Bind(7, id).Run();
+  const std::string result_json = result ? result->dump() : std::string();
+  storage::SetJobStatus(c, id, status, stage, progress, result ? &result_json : nullptr, error, NowNs());
 }
 
 }  // namespace
 
 JobService::JobService(storage::Store& store, JobSettings settings) : store_(store), settings_(std::move(settings)) {
-  interrupted_at_start_ = store_.Write([](storage::Connection& c) {
-    storage::Statement s(c,
-                         "UPDATE jobs SET status = 'failed', error = ?1 || CASE WHEN stage <> '' THEN ' (stage ' || "
-                         "stage || ')' ELSE '' END, updated_ns = ?2 WHERE status IN ('queued', 'running')");
-    s.Bind(1, std::string(kInterrupted)).Bind(2, NowNs()).Run();
-    return static_cast<int>(c.Changes());
-  });
+  interrupted_at_start_ = store_.Write(
+      [](storage::Connection& c) { return storage::MarkUnfinishedJobsFailed(c, kInterrupted, NowNs()); });
   worker_ = std::thread([this] { Worker(); });
 }
 
@@ -66,12 +56,7 @@ Json JobService::SubmitForget(const std::string& map, const Json& body) {
     }
     id = store_.Write([&](storage::Connection& c) {
       if (!storage::FindMap(c, map)) throw Error(ErrorCode::kNotFound, "map '" + map + "' does not exist", "map");
-      storage::Statement s(c,
-                           "INSERT INTO jobs (kind, map_id, status, stage, progress, request, created_ns, updated_ns) "
-                           "VALUES ('forget', ?, 'queued', '', 0, ?, ?, ?)");
-      const std::int64_t now = NowNs();
-      s.Bind(1, map).Bind(2, stored.dump()).Bind(3, now).Bind(4, now).Run();
-      return static_cast<std::int64_t>(sqlite3_last_insert_rowid(c.handle()));
+      return storage::InsertJob(c, "forget", map, stored.dump(), NowNs());
     });
     ++pending_;
   }
@@ -80,24 +65,19 @@ Json JobService::SubmitForget(const std::string& map, const Json& body) {
 }
 
 Json JobService::Get(std::int64_t id) {
-  Json j = store_.Read([&](storage::Connection& c) -> Json {
-    storage::Statement s(c,
-                         "SELECT id, kind, map_id, status, stage, progress, request, result, error, created_ns, "
-                         "updated_ns FROM jobs WHERE id = ?");
-    s.Bind(1, id);
-    if (!s.Step()) throw Error(ErrorCode::kNotFound, "job " + std::to_string(id) + " does not exist", "job");
-    return {{"id", s.Int(0)},
-            {"kind", s.Text(1)},
-            {"map", s.IsNull(2) ? Json(nullptr) : Json(s.Text(2))},
-            {"status", s.Text(3)},
-            {"stage", s.Text(4)},
-            {"progress", s.Double(5)},
-            {"request", Json::parse(s.Text(6), nullptr, false)},
-            {"result", s.IsNull(7) ? Json(nullptr) : Json::parse(s.Text(7), nullptr, false)},
-            {"error", s.IsNull(8) ? Json(nullptr) : Json(s.Text(8))},
-            {"created_ns", s.Int(9)},
-            {"updated_ns", s.Int(10)}};
-  });
+  const auto r = store_.Read([&](storage::Connection& c) { return storage::FindJob(c, id); });
+  if (!r) throw Error(ErrorCode::kNotFound, "job " + std::to_string(id) + " does not exist", "job");
+  Json j = {{"id", r->id},
+            {"kind", r->kind},
+            {"map", r->map_id ? Json(*r->map_id) : Json(nullptr)},
+            {"status", r->status},
+            {"stage", r->stage},
+            {"progress", r->progress},
+            {"request", Json::parse(r->request_json, nullptr, false)},
+            {"result", r->result_json ? Json::parse(*r->result_json, nullptr, false) : Json(nullptr)},
+            {"error", r->error ? Json(*r->error) : Json(nullptr)},
+            {"created_ns", r->created_ns},
+            {"updated_ns", r->updated_ns}};
   std::lock_guard<std::mutex> lock(mutex_);
   if (live_id_ == id && j["status"] == "running") {
     j["stage"] = live_stage_;
@@ -120,10 +100,7 @@ void JobService::Worker() {
     }
     std::int64_t id = 0;
     try {
-      id = store_.Read([](storage::Connection& c) -> std::int64_t {
-        storage::Statement s(c, "SELECT id FROM jobs WHERE status = 'queued' ORDER BY id LIMIT 1");
-        return s.Step() ? s.Int(0) : 0;
-      });
+      id = store_.Read([](storage::Connection& c) { return storage::NextQueuedJob(c).value_or(0); });
     } catch (const std::exception&) {
       id = 0;
     }
@@ -148,16 +125,14 @@ void JobService::RunJob(std::int64_t id) {
   bool committed = false;
   Json result;
   try {
-    const auto row = store_.Write([&](storage::Connection& c) {
-      storage::Statement s(c, "SELECT map_id, request FROM jobs WHERE id = ?");
-      s.Bind(1, id);
-      if (!s.Step()) throw Error(ErrorCode::kNotFound, "job vanished");
-      std::pair<std::string, std::string> out{s.Text(0), s.Text(1)};
+    const auto job = store_.Write([&](storage::Connection& c) {
+      auto r = storage::FindJob(c, id);
+      if (!r) throw Error(ErrorCode::kNotFound, "job vanished");
       SetJobStatus(c, id, "running", "forgetting", 0.0, nullptr, nullptr);
-      return out;
+      return *r;
     });
-    map = row.first;
-    request = storage::ParseForgetRequest(Json::parse(row.second));
+    map = job.map_id.value_or("");
+    request = storage::ParseForgetRequest(Json::parse(job.request_json));
     {
       std::lock_guard<std::mutex> lock(mutex_);
       live_id_ = id;
@@ -206,9 +181,8 @@ void JobService::RunJob(std::int64_t id) {
     try {
       // The forgetting commit stores the result with the deletions; a result means they happened (a vacuum failed).
       committed = committed || store_.Read([&](storage::Connection& c) {
-        storage::Statement s(c, "SELECT result IS NOT NULL FROM jobs WHERE id = ?");
-        s.Bind(1, id);
-        return s.Step() && s.Int(0) != 0;
+        const auto r = storage::FindJob(c, id);
+        return r && r->result_json.has_value();
       });
     } catch (const std::exception&) {
     }

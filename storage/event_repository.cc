@@ -248,6 +248,13 @@ std::optional<std::int64_t> LatestKeyframeId(Connection& c, std::int64_t scene_i
   return s.Int(0);
 }
 
+std::optional<std::int64_t> PreviousKeyframeId(Connection& c, std::int64_t scene_id, std::int64_t keyframe_id) {
+  Statement s(c, "SELECT id FROM keyframes WHERE scene_id = ? AND id < ? ORDER BY id DESC LIMIT 1");
+  s.Bind(1, scene_id).Bind(2, keyframe_id);
+  if (!s.Step()) return std::nullopt;
+  return s.Int(0);
+}
+
 bool SetKeyframePinned(Connection& c, const std::string& map_id, std::int64_t id, bool pinned) {
   Statement(c, "UPDATE keyframes SET pinned = ? WHERE map_id = ? AND id = ?")
       .Bind(1, static_cast<std::int64_t>(pinned)).Bind(2, map_id).Bind(3, id).Run();

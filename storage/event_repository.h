@@ -108,6 +108,8 @@ void UpdateEventExplanation(Connection& c, std::int64_t event_id, const std::str
 
 // Keyframes: the latest of a scene (before `before_id` when given), pinning and relevance.
 std::optional<std::int64_t> LatestKeyframeId(Connection& c, std::int64_t scene_id);
+// The keyframe of the scene stored just before `keyframe_id` (the one that opened its action layer).
+std::optional<std::int64_t> PreviousKeyframeId(Connection& c, std::int64_t scene_id, std::int64_t keyframe_id);
 bool SetKeyframePinned(Connection& c, const std::string& map_id, std::int64_t id, bool pinned);
 bool SetKeyframeRelevance(Connection& c, const std::string& map_id, std::int64_t id, double relevance);
 // How many events use the keyframe as evidence and how many segments came from it.

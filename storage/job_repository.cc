@@ -1,0 +1,58 @@
+#include "storage/job_repository.h"
+
+namespace anchordb::storage {
+
+std::int64_t InsertJob(Connection& c, const std::string& kind, const std::string& map_id, const std::string& request_json,
+                       std::int64_t now_ns) {
+  Statement s(c, "INSERT INTO jobs (kind, map_id, status, stage, progress, request, created_ns, updated_ns) "
+                 "VALUES (?, ?, 'queued', '', 0, ?, ?, ?)");
+  s.Bind(1, kind).Bind(2, map_id).Bind(3, request_json).Bind(4, now_ns).Bind(5, now_ns).Run();
+  return sqlite3_last_insert_rowid(c.handle());
+}
+
+std::optional<JobRecord> FindJob(Connection& c, std::int64_t id) {
+  Statement s(c, "SELECT id, kind, map_id, status, stage, progress, request, result, error, created_ns, updated_ns "
+                 "FROM jobs WHERE id = ?");
+  s.Bind(1, id);
+  if (!s.Step()) return std::nullopt;
+  JobRecord r;
+  r.id = s.Int(0);
+  r.kind = s.Text(1);
+  if (!s.IsNull(2)) r.map_id = s.Text(2);
+  r.status = s.Text(3);
+  r.stage = s.Text(4);
+  r.progress = s.Double(5);
+  r.request_json = s.Text(6);
+  if (!s.IsNull(7)) r.result_json = s.Text(7);
+  if (!s.IsNull(8)) r.error = s.Text(8);
+  r.created_ns = s.Int(9);
+  r.updated_ns = s.Int(10);
+  return r;
+}
+
+std::optional<std::int64_t> NextQueuedJob(Connection& c) {
+  Statement s(c, "SELECT id FROM jobs WHERE status = 'queued' ORDER BY id LIMIT 1");
+  if (!s.Step()) return std::nullopt;
+  return s.Int(0);
+}
+
+void SetJobStatus(Connection& c, std::int64_t id, const std::string& status, const std::string& stage, double progress,
+                  const std::string* result_json, const std::string* error, std::int64_t now_ns) {
+  Statement s(c, "UPDATE jobs SET status = ?, stage = ?, progress = ?, result = coalesce(?, result), error = ?, "
+                 "updated_ns = ? WHERE id = ?");
+  s.Bind(1, status).Bind(2, stage).Bind(3, progress);
+  if (result_json) s.Bind(4, *result_json);
+  else s.BindNull(4);
+  if (error) s.Bind(5, *error);
+  else s.BindNull(5);
+  s.Bind(6, now_ns).Bind(7, id).Run();
+}
+
+int MarkUnfinishedJobsFailed(Connection& c, const std::string& message, std::int64_t now_ns) {
+  Statement s(c, "UPDATE jobs SET status = 'failed', error = ?1 || CASE WHEN stage <> '' THEN ' (stage ' || stage || ')' "
+                 "ELSE '' END, updated_ns = ?2 WHERE status IN ('queued', 'running')");
+  s.Bind(1, message).Bind(2, now_ns).Run();
+  return static_cast<int>(c.Changes());
+}
+
+}  // namespace anchordb::storage

@@ -1,0 +1,36 @@
+#pragma once
+// SQL for jobs (migration 0004): long work with status, stage, progress, result and error.
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "storage/sqlite.h"
+
+namespace anchordb::storage {
+
+struct JobRecord {
+  std::int64_t id = 0;
+  std::string kind;
+  std::optional<std::string> map_id;
+  std::string status;
+  std::string stage;
+  double progress = 0.0;
+  std::string request_json;
+  std::optional<std::string> result_json;
+  std::optional<std::string> error;
+  std::int64_t created_ns = 0;
+  std::int64_t updated_ns = 0;
+};
+
+std::int64_t InsertJob(Connection& c, const std::string& kind, const std::string& map_id, const std::string& request_json,
+                       std::int64_t now_ns);
+std::optional<JobRecord> FindJob(Connection& c, std::int64_t id);
+// The oldest queued job.
+std::optional<std::int64_t> NextQueuedJob(Connection& c);
+// result: kept as stored when null; error: replaced (null clears it).
+void SetJobStatus(Connection& c, std::int64_t id, const std::string& status, const std::string& stage, double progress,
+                  const std::string* result_json, const std::string* error, std::int64_t now_ns);
+// Jobs left queued or running (by a stop or a crash) become failed with `message` and their stage; returns how many.
+int MarkUnfinishedJobsFailed(Connection& c, const std::string& message, std::int64_t now_ns);
+
+}  // namespace anchordb::storage
