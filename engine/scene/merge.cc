@@ -53,6 +53,46 @@ Projection Project(const Eigen::Vector3d& p, const PinholeIntrinsics& K, double 
   return out;
 }
 
+// The earlier sensor's effective field of view in its image: the bounding box of its measured pixels. Real depth
+// cameras leave bands at the image border without depth (e.g. a Kinect's registration border); there the earlier
+// camera saw nothing, which premise 1 must not take for "seen and empty".
+struct PixelBox {
+  int u_min, u_max, v_min, v_max;
+  bool Contains(int u, int v) const { return u >= u_min && u <= u_max && v >= v_min && v <= v_max; }
+};
+
+// Rear projection P(s_v, V^j) of lines 9-11: the depth (along the current ray) up to which the earlier camera
+// provably saw free space behind the point at `from_depth` -- the farthest place that provably holds no static
+// structure. The ray is followed in steps of 0.5 % of the depth while it stays inside the earlier frustum (side
+// planes, far plane, effective field of view) and the earlier camera saw through it: it measured something farther
+// there (beyond theta), or nothing inside a wide unknown area (beyond its range). Where the earlier camera saw
+// nothing at all (beyond its range) this is the frustum's rear boundary, as in the thesis; where it saw through
+// the point but the surface behind it from the current view was hidden from it, the ray stops where it enters
+// that hidden region.
+double FreeSpaceExit(const Eigen::Isometry3d& X_prior_C, const Eigen::Vector3d& ray_C, double from_depth,
+                     const PinholeIntrinsics& K_prior, const std::vector<float>& background_m,
+                     const cv::Mat& unknown_distance_px, const PixelBox& seen, const MergeParams& params) {
+  const double exit = FrustumExit(X_prior_C.translation(), X_prior_C.linear() * ray_C, K_prior, params.frustum_far_m);
+  if (!std::isfinite(exit)) return exit;
+  double free_to = from_depth;
+  for (double t = from_depth * 1.005; t < exit; t *= 1.005) {
+    const Eigen::Vector3d p = X_prior_C * (ray_C * t);
+    if (p.z() <= 0.05) return free_to;
+    const double u = K_prior.fx * p.x() / p.z() + K_prior.cx, v = K_prior.fy * p.y() / p.z() + K_prior.cy;
+    if (u < 0 || v < 0 || u >= K_prior.width || v >= K_prior.height) return free_to;
+    const int iu = static_cast<int>(u), iv = static_cast<int>(v);
+    if (!seen.Contains(iu, iv)) return free_to;
+    const float measured = background_m[static_cast<std::size_t>(iv) * K_prior.width + iu];
+    if (measured > 0.0f) {
+      if (p.z() >= measured - params.beta * measured) return free_to;  // at or behind what the earlier camera saw
+    } else if (unknown_distance_px.at<float>(iv, iu) < params.rear_projection_min_unknown_px) {
+      return free_to;  // a dropout: no evidence either way
+    }
+    free_to = t;
+  }
+  return exit;
+}
+
 }  // namespace
 
 std::vector<float> Rasterise(const std::vector<Eigen::Vector3f>& points_C, const PinholeIntrinsics& K, int closing_px) {
@@ -150,25 +190,25 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
     for (std::size_t k = 0; k < prior.background_m.size(); ++k) unknown.data[k] = prior.background_m[k] > 0.0f ? 0 : 255;
     cv::Mat unknown_distance_px;
     cv::distanceTransform(unknown, unknown_distance_px, cv::DIST_L2, cv::DIST_MASK_3);
-    // The earlier sensor's effective field of view: the bounding box of its measured pixels. Real depth cameras
-    // leave bands at the image border without depth (e.g. a Kinect's registration border); there the earlier
-    // camera saw nothing, which premise 1 must not take for "seen and empty".
-    int u_min = prior.K.width, u_max = -1, v_min = prior.K.height, v_max = -1;
+    // The earlier sensor's effective field of view (PixelBox).
+    PixelBox seen{prior.K.width, -1, prior.K.height, -1};
     for (int v = 0; v < prior.K.height; ++v) {
       for (int u = 0; u < prior.K.width; ++u) {
         if (prior.background_m[static_cast<std::size_t>(v) * prior.K.width + u] > 0.0f) {
-          u_min = std::min(u_min, u), u_max = std::max(u_max, u), v_min = std::min(v_min, v), v_max = std::max(v_max, v);
+          seen.u_min = std::min(seen.u_min, u), seen.u_max = std::max(seen.u_max, u);
+          seen.v_min = std::min(seen.v_min, v), seen.v_max = std::max(seen.v_max, v);
         }
       }
     }
-    // Nearest measured depth within square windows of radius 4, 8, 16, 32 px (unknown = +inf): premise 2's test.
+    // Nearest measured depth within square windows of radius 2, 4, 8, 16, 32 px (unknown = +inf): premise 2's test.
     cv::Mat earlier(prior.K.height, prior.K.width, CV_32F);
     for (std::size_t k = 0; k < prior.background_m.size(); ++k) {
       earlier.ptr<float>()[k] = prior.background_m[k] > 0.0f ? prior.background_m[k] : std::numeric_limits<float>::max();
     }
-    static constexpr int kRadii[4] = {4, 8, 16, 32};
-    cv::Mat nearest_within[4];
-    for (int k = 0; k < 4; ++k) {
+    static constexpr int kBuckets = 5;
+    static constexpr int kRadii[kBuckets] = {2, 4, 8, 16, 32};
+    cv::Mat nearest_within[kBuckets];
+    for (int k = 0; k < kBuckets; ++k) {
       cv::erode(earlier, nearest_within[k], cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kRadii[k] + 1, 2 * kRadii[k] + 1)),
                 cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
     }
@@ -199,25 +239,27 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
         const Eigen::Vector3d ray = PixelRay(K, u, v);
         const Eigen::Vector3d p_prior = X_prior_C * (ray * sv);
         const Projection proj = Project(p_prior, prior.K, params.frustum_far_m);
-        if (!proj.inside || proj.u < u_min || proj.u > u_max || proj.v < v_min || proj.v > v_max) {  // premise 1
+        if (!proj.inside || !seen.Contains(proj.u, proj.v)) {  // premise 1
           ++report.rejected_fov;
           decide(i, MergeDecision::kRejectedFov);
           continue;
         }
         // Premise 2: nothing stood in front of (or at) the point as seen from the earlier camera -- at the point's
-        // depth it would have been seen as static. Checked on a small window of the earlier image: a pixel the sensor
-        // dropped (grazing angle, shadow) is no evidence of free space, so a measured neighbour counts too.
-        // The point's own line of sight decides where the earlier camera measured it; only where it measured
-        // nothing does the neighbourhood (a dropout band, or a pose error) decide.
+        // depth it would have been seen as static. The point's own line of sight must show something farther, or
+        // nothing; and since the point may lie a little beside where it projects (the remaining pose error), nothing
+        // at or before its depth may have been seen within the window that error spans either -- at least
+        // occlusion_px where the own pixel has no depth, as a pixel the sensor dropped (grazing angle, shadow) is no
+        // evidence of free space.
         const float own = prior.background_m[static_cast<std::size_t>(proj.v) * prior.K.width + proj.u];
-        bool occluded = own > 0.0f && own < proj.z + beta * proj.z;
-        if (own == 0.0f) {
-          const double tolerance = report.icp_applied ? params.pose_tolerance_after_icp_m : params.pose_tolerance_m;
-          const double needed_px = std::max<double>(params.occlusion_px, prior.K.fx * tolerance / proj.z);
+        const auto window_clear = [&](bool after_icp, double min_px) {
+          const double tolerance = after_icp ? params.pose_tolerance_after_icp_m : params.pose_tolerance_m;
+          const double needed_px = std::max(min_px, prior.K.fx * tolerance / proj.z);
           int bucket = 0;
-          while (bucket < 3 && kRadii[bucket] < needed_px) ++bucket;
-          occluded = nearest_within[bucket].at<float>(proj.v, proj.u) < proj.z + beta * proj.z;
-        }
+          while (bucket + 1 < kBuckets && kRadii[bucket] < needed_px) ++bucket;
+          return nearest_within[bucket].at<float>(proj.v, proj.u) >= proj.z + beta * proj.z;
+        };
+        const bool occluded = own > 0.0f ? own < proj.z + beta * proj.z || !window_clear(report.icp_applied, 1.0)
+                                         : !window_clear(report.icp_applied, params.occlusion_px);
         if (occluded) {  // something in front of, or at, the point's depth was seen
           ++report.rejected_occlusion;
           decide(i, MergeDecision::kRejectedOcclusion);
@@ -239,8 +281,7 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
         }
         if (su > sv) {  // lines 6-8
           // The earlier camera must have seen through the point (measured farther there), not merely nothing.
-          const float seen = prior.background_m[static_cast<std::size_t>(proj.v) * prior.K.width + proj.u];
-          if (!(seen > proj.z + beta * proj.z)) {
+          if (!(own > proj.z + beta * proj.z)) {
             ++report.rejected_occlusion;
             decide(i, MergeDecision::kNotSeenThrough);
             continue;
@@ -249,13 +290,14 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
           w[i] = 1.0f;
           ++report.replaced_farther;
           decide(i, MergeDecision::kReplacedFarther);
-        } else {  // su unknown: lines 9-11, rear projection onto the earlier frustum's boundary
-          if (unknown_distance_px.at<float>(proj.v, proj.u) < params.rear_projection_min_unknown_px) {
+        } else {  // su unknown: lines 9-11, rear projection
+          if (own == 0.0f && unknown_distance_px.at<float>(proj.v, proj.u) < params.rear_projection_min_unknown_px) {
             ++report.rejected_occlusion;  // a dropout next to measured structure: not seen through
             decide(i, MergeDecision::kRejectedDropout);
             continue;
           }
-          const double exit = FrustumExit(X_prior_C.translation(), X_prior_C.linear() * ray, prior.K, params.frustum_far_m);
+          const double exit = FreeSpaceExit(X_prior_C, ray, sv, prior.K, prior.background_m, unknown_distance_px, seen,
+                                            params);
           if (std::isfinite(exit) && exit > sv + theta) {
             s_v[i] = static_cast<float>(exit);
             w[i] = 1.0f;

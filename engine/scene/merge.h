@@ -38,15 +38,19 @@ struct MergeParams {
   int neighbourhood_px = 2;        // premise 3 looks at (2r+1)^2 pixels of the transformed model
   int occlusion_px = 4;            // premise 2 looks at (2r+1)^2 pixels of the earlier image at least: dropped-pixel
                                    // slivers (grazing faces, shadows) up to ~2r px wide are not taken for free space
-  // Where the earlier pixel itself has no depth, premise 2 also allows for the remaining pose error between the
-  // views: its window grows to the pixels this distance spans at the point's depth (fx * tolerance / z), up to
-  // 32 px. The smaller tolerance applies when ICP corrected the pose.
+  // Premise 2 allows for the remaining pose error between the views: nothing may have been seen at or before the
+  // point within the window this distance spans at the point's depth (fx * tolerance / z, radius 2 to 32 px; at
+  // least occlusion_px where the earlier pixel itself has no depth). The smaller tolerance applies when ICP
+  // corrected the pose.
   double pose_tolerance_m = 0.03;
   double pose_tolerance_after_icp_m = 0.005;
   int closing_px = 3;              // kernel of the hole-closing after rasterisation
-  // Rear projection (lines 9-11) trusts an unknown earlier pixel only inside a wide unknown area (beyond the
-  // sensor's range): at least this many pixels from any measured pixel. Narrow unknown areas are dropouts
-  // (projector shadow, grazing faces), not evidence of free space.
+  // Rear projection (lines 9-11): the background moves back along the current ray as far as the earlier camera
+  // provably saw free space -- through pixels where it measured something farther, or nothing inside a wide unknown
+  // area (beyond the sensor's range) -- up to its frustum's rear boundary (the thesis' P(s_v, V^j), which is where
+  // the earlier camera saw nothing at all). An unknown earlier pixel counts only inside a wide unknown area: at least
+  // this many pixels from any measured pixel. Narrow unknown areas are dropouts (projector shadow, grazing faces),
+  // not evidence of free space.
   double rear_projection_min_unknown_px = 14.0;
   bool record_decisions = false;  // fill MergeModelReport::decisions (Algorithm 2 only)
   IcpParams icp;
@@ -68,7 +72,7 @@ enum class MergeDecision : std::uint8_t {
   kReplacedFarther,        // lines 6-8
   kRejectedDropout,        // lines 9-11: the unknown earlier pixel is a dropout next to measured structure
   kRearProjected,          // lines 9-11
-  kRearNotBehind,          // lines 9-11: the frustum's boundary is not behind the point
+  kRearNotBehind,          // lines 9-11: the earlier camera saw no free space (beyond theta) behind the point
   kCount
 };
 
@@ -79,7 +83,7 @@ struct MergeModelReport {
   std::size_t rasterised_pixels = 0;   // pixels of the current view the transformed model covers
   std::size_t supported = 0;           // line 4: within theta, reliability raised
   std::size_t replaced_farther = 0;    // lines 6-8: background moved back to the earlier model's
-  std::size_t rear_projected = 0;      // lines 9-11: unknown in the earlier model -> its frustum's rear boundary
+  std::size_t rear_projected = 0;      // lines 9-11: unknown in the earlier model -> as far as it saw free space
   std::size_t filled_unknown = 0;      // the current frame had no measurement: the earlier background fills it
   std::size_t rejected_fov = 0;        // premise 1 failed
   std::size_t rejected_occlusion = 0;  // premise 2 failed

@@ -62,6 +62,10 @@ Ids IdsOf(const sim::SettingScene& st) {
   return ids;
 }
 
+// Said in a case's description when a moved object could only be placed where it overlaps, in A's image, a place
+// where a moving object stood (VisibleMove).
+const char* OverlapNote(bool overlaps) { return overlaps ? " (overlapping an old place in A's image)" : ""; }
+
 Script BuildScript(sim::Setting setting_id, MergeCase c, std::uint64_t seed, const PinholeIntrinsics& K) {
   const sim::SettingScene st = sim::MakeSetting(setting_id, seed);
   const Ids ids = IdsOf(st);
@@ -76,13 +80,14 @@ Script BuildScript(sim::Setting setting_id, MergeCase c, std::uint64_t seed, con
     case MergeCase::kN0: {
       // The box (15 x 10 x 20 cm) moves 12-35 cm along the shelf board halfway through the observation at A, to a
       // place well seen from A and from B; at B it stands there. Expected movable at B: the box.
-      const auto d = VisibleMove(s0, ids.box, surface, XA, XB, K);
+      bool overlaps = false;
+      const auto d = VisibleMove(s0, ids.box, surface, XA, XB, K, nullptr, {}, &overlaps);
       if (!d) NoSpot(c, setting_id, "the box");
       const sim::Scene moved = Moved(s0, ids.box, *d);
       two(s0, moved, moved);
       sc.expected = {ids.box};
       sc.shown = {{0, ids.box}, {1, ids.box}};
-      sc.description << "box moved by " << Fmt(*d) << " m during A";
+      sc.description << "box moved by " << Fmt(*d) << " m during A" << OverlapNote(overlaps);
       break;
     }
     case MergeCase::kM1:
@@ -104,27 +109,30 @@ Script BuildScript(sim::Setting setting_id, MergeCase c, std::uint64_t seed, con
         break;
       }
       // N1 also moves the bottle (30 cm) meanwhile, 12-35 cm to a place seen from A and B: the positives of N1.
-      const auto e = VisibleMove(scene, ids.tall, surface, XA, XB, K);
+      bool overlaps = false;
+      const auto e = VisibleMove(scene, ids.tall, surface, XA, XB, K, nullptr, {}, &overlaps);
       if (!e) NoSpot(c, setting_id, "the bottle");
       two(scene, std::nullopt, Moved(scene, ids.tall, *e));
       sc.expected = {ids.tall};
       sc.shown.push_back({1, ids.tall});
-      sc.description << "; bottle moved by " << Fmt(*e) << " m meanwhile";
+      sc.description << "; bottle moved by " << Fmt(*e) << " m meanwhile" << OverlapNote(overlaps);
       break;
     }
     case MergeCase::kM0: {
       // The box and then the cup move 12-35 cm each halfway through the observation at A, to places seen from A and
       // B. Expected movable at B: both.
-      const auto d1 = VisibleMove(s0, ids.box, surface, XA, XB, K);
+      bool overlaps1 = false, overlaps2 = false;
+      const auto d1 = VisibleMove(s0, ids.box, surface, XA, XB, K, &s0, {ids.box, ids.cup}, &overlaps1);
       if (!d1) NoSpot(c, setting_id, "the box");
       const sim::Scene one = Moved(s0, ids.box, *d1);
-      const auto d2 = VisibleMove(one, ids.cup, surface, XA, XB, K);
+      const auto d2 = VisibleMove(one, ids.cup, surface, XA, XB, K, &s0, {ids.box, ids.cup}, &overlaps2);
       if (!d2) NoSpot(c, setting_id, "the cup");
       const sim::Scene moved = Moved(one, ids.cup, *d2);
       two(s0, moved, moved);
       sc.expected = {ids.cup, ids.box};
       sc.shown = {{1, ids.cup}, {1, ids.box}};
-      sc.description << "box moved by " << Fmt(*d1) << ", cup by " << Fmt(*d2) << " m during A";
+      sc.description << "box moved by " << Fmt(*d1) << OverlapNote(overlaps1) << ", cup by " << Fmt(*d2) << " m"
+                     << OverlapNote(overlaps2) << " during A";
       break;
     }
     case MergeCase::kM2: {
@@ -141,7 +149,8 @@ Script BuildScript(sim::Setting setting_id, MergeCase c, std::uint64_t seed, con
     case MergeCase::kM3: {
       // The box moves 12-35 cm to a place seen from A and B and the cup is put on top of it, both halfway through
       // the observation at A. Expected movable at B: both.
-      const auto d = VisibleMove(s0, ids.box, surface, XA, XB, K);
+      bool overlaps = false;
+      const auto d = VisibleMove(s0, ids.box, surface, XA, XB, K, &s0, {ids.box, ids.cup}, &overlaps);
       if (!d) NoSpot(c, setting_id, "the box");
       const sim::Scene box_moved = Moved(s0, ids.box, *d);
       const Vector3d top = TopCentre(box_moved, ids.box) + Vector3d(0, 0, 0.5 * Height(s0, ids.cup));
@@ -149,7 +158,7 @@ Script BuildScript(sim::Setting setting_id, MergeCase c, std::uint64_t seed, con
       two(s0, moved, moved);
       sc.expected = {ids.cup, ids.box};
       sc.shown = {{1, ids.cup}, {1, ids.box}};
-      sc.description << "box moved by " << Fmt(*d) << " m and cup stacked on it during A";
+      sc.description << "box moved by " << Fmt(*d) << " m" << OverlapNote(overlaps) << " and cup stacked on it during A";
       break;
     }
     case MergeCase::kM4: {
@@ -551,7 +560,7 @@ MergeCaseResult RunMergeCase(sim::Setting setting, MergeCase c, std::uint64_t se
       for (std::size_t i = 0; i < cleaned.size(); ++i) {
         if (!truth[i] || zone[i] || cleaned[i]) continue;
         if (within_theta[i]) ++out.fn_within_theta;
-        else if (unknown_background[i]) ++out.fn_unknown_background;
+        else if (unknown_background[i]) ++out.fn_unknown_background, ++out.fn_unknown_by_decision[decision[i]];
         else if (final_model.movable[i]) ++out.fn_cleaned_away;
         else ++out.fn_by_decision[decision[i]];
       }

@@ -80,6 +80,8 @@ struct StrategyResult {
   std::size_t fn_unknown_background = 0;  // of MergeCaseResult::unknown_background_pixels
   std::size_t fn_cleaned_away = 0;
   std::array<std::size_t, static_cast<std::size_t>(engine::MergeDecision::kCount)> fn_by_decision{};
+  // The merge's decision at the false negatives in front of unknown background (fn_unknown_background).
+  std::array<std::size_t, static_cast<std::size_t>(engine::MergeDecision::kCount)> fn_unknown_by_decision{};
 };
 
 struct MergeCaseResult {

@@ -85,6 +85,7 @@ int main(int argc, char** argv) {
   std::map<std::string, std::array<std::size_t, 4>> unknown_bg;  // truth in front of unknown background; detected
   constexpr std::size_t kDecisions = static_cast<std::size_t>(engine::MergeDecision::kCount);
   std::map<std::string, std::array<std::size_t, 4 + kDecisions>> fn_causes;  // all, within theta, unknown, cleaned, decisions
+  std::map<std::string, std::array<std::size_t, kDecisions>> fn_unknown;      // decisions at the unknown-background FNs
   std::vector<eval::PoseErrorPair> icp;
   std::vector<double> icp_ms, raster_ms, merge_ms;
   int failures = 0;
@@ -114,6 +115,7 @@ int main(int argc, char** argv) {
         fn[0] += m.cleaned_zone.fn, fn[1] += m.fn_within_theta, fn[2] += m.fn_unknown_background;
         fn[3] += m.fn_cleaned_away;
         for (std::size_t k = 0; k < m.fn_by_decision.size(); ++k) fn[4 + k] += m.fn_by_decision[k];
+        for (std::size_t k = 0; k < kDecisions; ++k) fn_unknown[name][k] += m.fn_unknown_by_decision[k];
         icp.insert(icp.end(), m.icp.begin(), m.icp.end());
         const double n_models = std::max<std::size_t>(1, m.reports.size());
         icp_ms.push_back(m.timing.icp_ms / n_models);
@@ -214,6 +216,12 @@ int main(int argc, char** argv) {
     for (const auto& [name, fn] : fn_causes) {
       std::printf("%-4s %6zu %6zu %6zu %6zu", name.c_str(), fn[0], fn[1], fn[2], fn[3]);
       for (std::size_t k = 0; k < kDecisions; ++k) std::printf(" %7zu", fn[4 + k]);
+      std::printf("\n");
+    }
+    std::printf("The merge's decision at the false negatives in front of unknown background (column unk above):\n");
+    for (const auto& [name, fn] : fn_unknown) {
+      std::printf("%-4s %27s", name.c_str(), "");
+      for (std::size_t k = 0; k < kDecisions; ++k) std::printf(" %7zu", fn[k]);
       std::printf("\n");
     }
     int within = 0, applied = 0, converged = 0;

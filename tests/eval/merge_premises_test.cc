@@ -4,7 +4,9 @@
 //  object 2 is static and seen from another side at B -> stays static (its back was occluded from A: premise 2);
 //  object 3 was never in A's view -> stays static (premise 1);
 //  object 4 was added in between where A's background is unknown (beyond range) -> movable, with the background
-//           rear-projected onto A's frustum boundary (lines 9-11).
+//           rear-projected onto A's frustum boundary (lines 9-11);
+//  object 5 (a scene of its own) stands where A saw free space, before wall A never saw -> movable, with the
+//           background rear-projected as far as A saw free space along B's ray.
 #include <gtest/gtest.h>
 
 #include "engine/scene/merge.h"
@@ -115,6 +117,68 @@ TEST(MergePremisesTest, Figure39Situations) {
   }
   EXPECT_TRUE(naive_static_flags / statics > 0.05 || naive_four / four < 0.8)
       << "naive: static objects flagged " << naive_static_flags / statics << ", object 4 found " << naive_four / four;
+}
+
+// Lines 9-11 where the earlier camera saw through the point but not the surface behind it from the new view: A saw
+// the wall through the place where object 5 stands at B, but B's rays through object 5 end on the part of the wall a
+// pillar hid from A. Object 5 is movable; its background is rear-projected only as far as A provably saw free space
+// (to where B's ray enters the pillar's shadow), which lies before the true wall -- not onto A's far boundary
+// beyond it.
+TEST(MergePremisesTest, RearProjectionStopsWhereTheEarlierCameraSawNoMore) {
+  constexpr int kObject5 = 15;
+  const auto room = [](bool with_5) {
+    sim::Scene s;
+    auto box = [&s](int id, const std::string& kind, Eigen::Vector3d centre, Eigen::Vector3d size) {
+      s.objects.push_back({id, "o" + std::to_string(id), kind});
+      sim::Primitive p;
+      p.object_id = id;
+      p.shape = sim::Shape::kBox;
+      p.X_WorldPrim.translation() = centre;
+      p.size_m = size;
+      s.primitives.push_back(p);
+    };
+    box(1, "static", {2.0, 0.0, -0.05}, {6.0, 6.0, 0.1});   // floor
+    box(2, "static", {4.05, 0.0, 1.0}, {0.1, 6.0, 2.0});    // wall, x = 4, within range
+    box(3, "static", {2.0, -0.6, 0.8}, {0.2, 0.2, 1.6});    // pillar straight ahead of A: its shadow on the wall
+    if (with_5) box(kObject5, "movable", {3.0, -0.2, 0.25}, {0.2, 0.2, 0.5});
+    return s;
+  };
+  const PinholeIntrinsics K = sim::KinectIntrinsics();
+  const Eigen::Isometry3d X_A = sim::LookAt({0.0, -0.6, 1.0}, {3.0, -0.4, 0.5});
+  const Eigen::Isometry3d X_B = sim::LookAt({0.2, 0.7, 1.0}, {3.0, -0.2, 0.5});
+  sim::SensorModel sensor;
+  SceneModelState a = NewSceneModel(K.width, K.height);
+  for (int i = 0; i < 8; ++i) ApplyFrame(a, sim::Render(room(false), K, X_A, sensor, 10 + i).depth_mm, 1000.0, {}, {});
+  PriorModel prior;
+  prior.id = 1;
+  prior.K = K;
+  prior.X_MapCamera = X_A;
+  prior.background_m = a.background_m;
+
+  SceneModelState b = NewSceneModel(K.width, K.height);
+  const sim::Frame first = sim::Render(room(true), K, X_B, sensor, 50);
+  const sim::Frame behind = sim::Render(room(false), K, X_B, sensor, 50);  // what B would see without object 5
+  MergeParams params;
+  params.record_decisions = true;
+  const MergeResult merged = MergeAndApplyFirstFrame(b, first.depth_mm, 1000.0, {}, {}, K, X_B, {prior}, params);
+  std::size_t pixels = 0, movable = 0, rear = 0, before_wall = 0, at_far = 0;
+  for (std::size_t p = 0; p < first.object_id.size(); ++p) {
+    if (first.object_id[p] != kObject5 || first.depth_mm[p] == 0) continue;
+    ++pixels;
+    movable += b.movable[p];
+    if (merged.models.at(0).decisions[p] != static_cast<std::uint8_t>(MergeDecision::kRearProjected)) continue;
+    ++rear;
+    // Rear projection: behind the object, before the true wall (+ noise), and well short of A's far boundary (5 m).
+    before_wall += b.background_m[p] > first.true_depth_m[p] && b.background_m[p] < behind.true_depth_m[p] + 0.05;
+    at_far += b.background_m[p] > 4.9f;
+  }
+  std::printf("object 5: %zu px, movable %zu, rear-projected %zu (before the wall %zu, at the far boundary %zu)\n",
+              pixels, movable, rear, before_wall, at_far);
+  ASSERT_GT(pixels, 1000u);
+  EXPECT_GT(static_cast<double>(movable) / pixels, 0.7);
+  EXPECT_GT(static_cast<double>(rear) / pixels, 0.5);
+  EXPECT_EQ(before_wall, rear);
+  EXPECT_EQ(at_far, 0u);
 }
 
 TEST(MergePremisesTest, RasteriseKeepsNearestAndClosesOnlyHoles) {

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -211,12 +212,47 @@ inline Visibility See(const std::vector<SurfaceSample>& samples, const Vector3d&
   return vis;
 }
 
+// Whether any sample of the object, moved by `delta`, projects onto a set pixel of `mask` (an image of the view).
+inline bool Covers(const std::vector<SurfaceSample>& samples, const Vector3d& delta, const View& view,
+                   const std::vector<std::uint8_t>& mask) {
+  for (const auto& s : samples) {
+    const Vector3d c = view.X_CW * (s.p + delta);
+    if (c.z() <= 0.05) continue;
+    const double u = view.K.fx * c.x() / c.z() + view.K.cx, v = view.K.fy * c.y() / c.z() + view.K.cy;
+    if (u < 0 || v < 0 || u >= view.K.width || v >= view.K.height) continue;
+    if (mask[static_cast<std::size_t>(v) * view.K.width + static_cast<std::size_t>(u)]) return true;
+  }
+  return false;
+}
+
+// The pixels of a camera that the objects `ids` of `scene` cover, grown by `grow_px` in every direction.
+inline std::vector<std::uint8_t> Silhouette(const sim::Scene& scene, const std::vector<int>& ids,
+                                            const Isometry3d& X_WC, const PinholeIntrinsics& K, int grow_px) {
+  const sim::Frame f = sim::Render(scene, K, X_WC, Noiseless(), 0);
+  std::vector<std::uint8_t> mask(f.object_id.size(), 0);
+  for (int v = 0; v < K.height; ++v) {
+    for (int u = 0; u < K.width; ++u) {
+      const int id = f.object_id[static_cast<std::size_t>(v) * K.width + u];
+      if (std::find(ids.begin(), ids.end(), id) == ids.end()) continue;
+      for (int dv = -grow_px; dv <= grow_px; ++dv) {
+        for (int du = -grow_px; du <= grow_px; ++du) {
+          const int uu = u + du, vv = v + dv;
+          if (uu >= 0 && vv >= 0 && uu < K.width && vv < K.height) mask[static_cast<std::size_t>(vv) * K.width + uu] = 1;
+        }
+      }
+    }
+  }
+  return mask;
+}
+
 // Where to put an object on the supporting surface.
 struct SpotQuery {
   struct Camera {
     const View* view;
     bool hidden;          // true: fully occluded there; false: at least `min_visible` of its facing surface seen
     double min_visible = 0.9;
+    // If set: pixels of this camera the object must not cover at its new place (see Silhouette).
+    const std::vector<std::uint8_t>* avoid = nullptr;
   };
   std::vector<Camera> cameras;
   double min_move_m = 0.0, max_move_m = 0.45, preferred_move_m = 0.2;
@@ -247,6 +283,10 @@ inline std::optional<Vector3d> FindSpot(const sim::Scene& with_object, int id, c
       bool ok = true;
       double seen = 1.0;
       for (const auto& cam : q.cameras) {
+        if (cam.avoid && Covers(samples, delta, *cam.view, *cam.avoid)) {
+          ok = false;
+          break;
+        }
         const Visibility vis = See(samples, delta, *cam.view);
         if (cam.hidden) {
           ok = ok && vis.FullyOccluded();
@@ -292,23 +332,37 @@ inline sim::Scene Moved(sim::Scene scene, int id, const Vector3d& delta) {
 
 // A spot visible from both viewpoints (at least 90 % of the object's facing surface seen from each) for an object
 // that moves 12-35 cm (preferably 20 cm) from where it stands in `scene`: far enough that its new volume does not
-// overlap its old one (no A1-like effect). Where the surface is too crowded for that (the shelf board with some
-// seeds), 80 % and up to 45 cm, then also only 0.5 cm instead of 1.5 cm of free space around it.
+// overlap its old one, and -- in A's image -- off the places where the objects `moving` (default: this one) stood
+// when A began to observe (`a_before`, default `scene`). Otherwise A's model itself goes wrong, whatever a merge
+// does later (an A1-like effect in the image): where the object's new place lies behind an old place, Algorithm 1 at
+// A takes it for background uncovered by the move; where it lies in front, A's background keeps the surface of the
+// old place, which the move has taken away. Where the surface is too crowded for that (the shelf board with some
+// seeds), 80 % and up to 45 cm, then also only 0.5 cm instead of 1.5 cm of free space around it, then up to 60 cm;
+// only then also places that overlap in A's image (the case's description says so).
 inline std::optional<Vector3d> VisibleMove(const sim::Scene& scene, int id, const Vector3d& surface, const Isometry3d& XA,
-                                    const Isometry3d& XB, const PinholeIntrinsics& K) {
+                                    const Isometry3d& XB, const PinholeIntrinsics& K,
+                                    const sim::Scene* a_before = nullptr, std::vector<int> moving = {},
+                                    bool* overlaps_in_a = nullptr) {
   const sim::Scene without = Without(scene, id);
   const View a = MakeView(without, XA, K), b = MakeView(without, XB, K);
+  if (moving.empty()) moving = {id};
+  const std::vector<std::uint8_t> old_places = Silhouette(a_before ? *a_before : scene, moving, XA, K, 3);
   struct Try {
     double visible, max_move, margin;
   };
-  for (const Try t : {Try{0.9, 0.35, 0.015}, Try{0.8, 0.45, 0.015}, Try{0.8, 0.45, 0.005}}) {
-    SpotQuery q;
-    q.cameras = {{&a, false, t.visible}, {&b, false, t.visible}};
-    q.min_move_m = 0.12;
-    q.max_move_m = t.max_move;
-    q.margin_m = t.margin;
-    q.preferred_move_m = 0.2;
-    if (auto d = FindSpot(scene, id, scene, surface, q)) return d;
+  for (const bool avoid : {true, false}) {
+    for (const Try t : {Try{0.9, 0.35, 0.015}, Try{0.8, 0.45, 0.015}, Try{0.8, 0.45, 0.005}, Try{0.8, 0.6, 0.005}}) {
+      SpotQuery q;
+      q.cameras = {{&a, false, t.visible, avoid ? &old_places : nullptr}, {&b, false, t.visible}};
+      q.min_move_m = 0.12;
+      q.max_move_m = t.max_move;
+      q.margin_m = t.margin;
+      q.preferred_move_m = 0.2;
+      if (auto d = FindSpot(scene, id, scene, surface, q)) {
+        if (overlaps_in_a) *overlaps_in_a = !avoid;
+        return d;
+      }
+    }
   }
   return std::nullopt;
 }

@@ -181,9 +181,8 @@ TEST(SlambookRealData, MergedRealViewsHaveFewMovablePixels) {
     const auto used = scene["merge"].value("models_used", api::Json::array()).size();
     merged_models += static_cast<int>(used);
     std::printf("view %d: merged %zu earlier model(s), cleaned movable fraction %.4f\n", view, used, fraction);
-    // Issue 4's bar is 2 %; measured: views 2-4 under it, view 5 (merging four earlier models) at 2.1 %. The
-    // guard is 2.5 % until the bar is met.
-    EXPECT_LT(fraction, 0.025) << scene["merge"].dump();
+    // Issue 4's bar. Measured: 0.00, 0.00, 0.55, 1.14 and 1.81 % for views 1-5 (view 5 merges four earlier models).
+    EXPECT_LT(fraction, 0.02) << scene["merge"].dump();
     scenes.Close("room", id);
   }
   EXPECT_GE(merged_models, 4);  // every view after the first merged at least one earlier one
