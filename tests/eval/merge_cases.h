@@ -33,7 +33,7 @@ enum class MergeCase {
   kM8,   // TA: raw scene at A; a tall object added meanwhile in front of background unknown to A (beyond range)
   kM9,   // TA: three viewpoints A, B, C: an object moved meanwhile to a place occluded from B (visible from A), then
          // seen at the same place from C
-  kDO,   // DO: the door leaf swung further open meanwhile
+  kDO,   // DO: the door leaf (open 30 deg at A) closed meanwhile
   kKI1,  // KI1: the kitchen chair moved meanwhile
   kKI2,  // KI2: the drawer pulled out meanwhile
   kSO,   // SO: a person lies down on the sofa meanwhile
