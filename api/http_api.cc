@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <random>
 #include <regex>
 
@@ -46,7 +47,9 @@ int HttpStatusFor(ErrorCode code) {
 std::string ErrorBody(ErrorCode code, const std::string& message, const std::string& field) {
   Json e = {{"code", ErrorCodeName(code)}, {"message", message}};
   e["field"] = field.empty() ? Json(nullptr) : Json(field);
-  return Json{{"error", e}}.dump();
+  // Messages may quote the request (a parser's "last read" bytes): bytes that are not UTF-8 become U+FFFD instead of
+  // failing the whole answer.
+  return Json{{"error", e}}.dump(-1, ' ', false, Json::error_handler_t::replace);
 }
 
 PathParams::PathParams(std::vector<std::string> names, std::vector<std::string> values)
@@ -90,6 +93,56 @@ bool IsSafeRequestId(const std::string& id) {
   return true;
 }
 
+// Whether `s` is well-formed UTF-8 (RFC 3629: no overlong forms, no surrogates, nothing above U+10FFFF).
+bool IsUtf8(const std::string& s) {
+  const auto* p = reinterpret_cast<const unsigned char*>(s.data());
+  const std::size_t n = s.size();
+  for (std::size_t i = 0; i < n;) {
+    const unsigned char c = p[i];
+    std::size_t len = 0;
+    std::uint32_t cp = 0;
+    if (c < 0x80) len = 1, cp = c;
+    else if ((c & 0xE0) == 0xC0) len = 2, cp = c & 0x1F;
+    else if ((c & 0xF0) == 0xE0) len = 3, cp = c & 0x0F;
+    else if ((c & 0xF8) == 0xF0) len = 4, cp = c & 0x07;
+    else return false;
+    if (i + len > n) return false;
+    for (std::size_t k = 1; k < len; ++k) {
+      if ((p[i + k] & 0xC0) != 0x80) return false;
+      cp = (cp << 6) | (p[i + k] & 0x3F);
+    }
+    static constexpr std::uint32_t kMin[5] = {0, 0, 0x80, 0x800, 0x10000};
+    if (cp < kMin[len] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return false;
+    i += len;
+  }
+  return true;
+}
+
+// A log line that cannot forge other lines or break a UTF-8 log reader: control characters, DEL and bytes of
+// malformed UTF-8 (from a decoded path or a message quoting the request) become \xHH.
+std::string LogSafe(const std::string& line) {
+  std::string out;
+  out.reserve(line.size());
+  static constexpr char kHex[] = "0123456789abcdef";
+  const auto escape = [&](unsigned char c) { out += "\\x", out += kHex[c >> 4], out += kHex[c & 15]; };
+  for (std::size_t i = 0; i < line.size();) {
+    const auto c = static_cast<unsigned char>(line[i]);
+    if (c < 0x20 || c == 0x7f) {
+      escape(c), ++i;
+    } else if (c < 0x80) {
+      out += static_cast<char>(c), ++i;
+    } else {
+      const std::size_t len = (c & 0xE0) == 0xC0 ? 2 : (c & 0xF0) == 0xE0 ? 3 : (c & 0xF8) == 0xF0 ? 4 : 0;
+      if (len > 0 && i + len <= line.size() && IsUtf8(line.substr(i, len))) {
+        out.append(line, i, len), i += len;
+      } else {
+        escape(c), ++i;
+      }
+    }
+  }
+  return out;
+}
+
 void SetError(httplib::Response& res, ErrorCode code, const std::string& message, const std::string& field) {
   res.status = HttpStatusFor(code);
   res.set_content(ErrorBody(code, message, field), "application/json");
@@ -122,6 +175,12 @@ void HttpApi::Dispatch(const Route& route, const std::vector<std::string>& names
                                                " role; the token has " + RoleName(*role));
       }
     }
+    // Query values reach answers (echoed labels, error messages) and the database as text: they must be UTF-8, as
+    // JSON bodies must be (the JSON parser checks those).
+    for (const auto& [key, value] : req.params) {
+      if (!IsUtf8(key)) throw Error(ErrorCode::kInvalidArgument, "a query parameter name is not valid UTF-8");
+      if (!IsUtf8(value)) throw Error(ErrorCode::kInvalidArgument, "query parameter is not valid UTF-8", key);
+    }
     std::vector<std::string> values;
     for (std::size_t i = 1; i < req.matches.size(); ++i) {
       values.push_back(req.matches[i].str());
@@ -147,8 +206,8 @@ void HttpApi::Dispatch(const Route& route, const std::vector<std::string>& names
   if (options_.log) {
     char buf[64];
     std::snprintf(buf, sizeof(buf), " %.3fms", seconds * 1e3);
-    options_.log("request_id=" + request_id + " " + req.method + " " + req.path + " status=" +
-                 std::to_string(res.status) + buf + log_detail);
+    options_.log(LogSafe("request_id=" + request_id + " " + req.method + " " + req.path + " status=" +
+                         std::to_string(res.status) + buf + log_detail));
   }
 }
 
@@ -188,7 +247,9 @@ void HttpApi::Mount(httplib::Server& server) {
     std::string request_id = req.get_header_value("X-Request-Id");
     if (!IsSafeRequestId(request_id)) request_id = NextRequestId();
     res.set_header("X-Request-Id", request_id);
-    if (options_.log) options_.log(req.method + " " + req.path + " status=" + std::to_string(status) + " error=" + ErrorCodeName(code));
+    if (options_.log) {
+      options_.log(LogSafe(req.method + " " + req.path + " status=" + std::to_string(status) + " error=" + ErrorCodeName(code)));
+    }
   });
 }
 

@@ -46,19 +46,34 @@ Json JobService::SubmitForget(const std::string& map, const Json& body) {
   const storage::ForgetRequest request = storage::ParseForgetRequest(body);  // throws on bad input: nothing queued
   Json stored = {{"policy", storage::ToJson(request.policy)}, {"dry_run", request.dry_run}};
   if (request.now_ns) stored["now"] = *request.now_ns;
-  std::int64_t id = 0;
   {
+    // The queue slot is taken under the mutex, the job row written without it: the running job takes the mutex
+    // (progress) while it holds the database's write lock, so waiting for that lock here under the mutex would
+    // deadlock both until the busy timeout.
     std::lock_guard<std::mutex> lock(mutex_);
     if (stop_) throw Error(ErrorCode::kOverloaded, "the server is stopping; no job is accepted");
-    if (pending_ >= settings_.max_queued) {
+    if (pending_ + reserved_ >= settings_.max_queued) {
       throw Error(ErrorCode::kOverloaded, "the job queue is full (" + std::to_string(settings_.max_queued) +
                                               " jobs); retry when a job has finished");
     }
+    ++reserved_;
+  }
+  std::int64_t id = 0;
+  try {
     id = store_.Write([&](storage::Connection& c) {
       if (!storage::FindMap(c, map)) throw Error(ErrorCode::kNotFound, "map '" + map + "' does not exist", "map");
       return storage::InsertJob(c, "forget", map, stored.dump(), NowNs());
     });
-    ++pending_;
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    --reserved_;
+    if (pending_ == 0 && reserved_ == 0) idle_.notify_all();
+    throw;
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    --reserved_;
+    ++pending_;  // the worker looks for a queued row only now that it is committed
   }
   wake_.notify_all();
   return {{"job", id}, {"status", "queued"}, {"kind", "forget"}, {"map", map}, {"request", stored}};
@@ -88,7 +103,7 @@ Json JobService::Get(std::int64_t id) {
 
 bool JobService::WaitIdle(double timeout_s) {
   std::unique_lock<std::mutex> lock(mutex_);
-  return idle_.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] { return pending_ == 0; });
+  return idle_.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] { return pending_ == 0 && reserved_ == 0; });
 }
 
 void JobService::Worker() {
@@ -108,14 +123,14 @@ void JobService::Worker() {
       // The queued row vanished (its map was deleted, which cascades to its jobs): nothing to run for it.
       std::lock_guard<std::mutex> lock(mutex_);
       if (pending_ > 0) --pending_;
-      if (pending_ == 0) idle_.notify_all();
+      if (pending_ == 0 && reserved_ == 0) idle_.notify_all();
       continue;
     }
     RunJob(id);
     std::lock_guard<std::mutex> lock(mutex_);
     if (pending_ > 0) --pending_;
     live_id_ = 0;
-    if (pending_ == 0) idle_.notify_all();
+    if (pending_ == 0 && reserved_ == 0) idle_.notify_all();
   }
 }
 

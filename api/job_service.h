@@ -60,6 +60,7 @@ class JobService {
   bool stop_ = false;
   std::atomic<bool> interrupt_{false};
   int pending_ = 0;  // queued + running, as this process knows them
+  int reserved_ = 0;  // submissions whose job row is being written (count against max_queued, not yet for the worker)
   std::int64_t live_id_ = 0;
   std::string live_stage_;
   double live_progress_ = 0.0;

@@ -5,7 +5,8 @@
 namespace anchordb::storage {
 
 void ThrowSqliteError(sqlite3* db, int rc, std::string_view what) {
-  const std::string message = std::string(what) + ": " + (db ? sqlite3_errmsg(db) : sqlite3_errstr(rc));
+  const std::string message = std::string(what) + ": " + (db ? sqlite3_errmsg(db) : sqlite3_errstr(rc)) +
+                              " (SQLite result code " + std::to_string(rc) + ")";
   const int primary = rc & 0xff;
   if (primary == SQLITE_CONSTRAINT) throw Error(ErrorCode::kConflict, message);
   if (primary == SQLITE_BUSY || primary == SQLITE_LOCKED) throw Error(ErrorCode::kOverloaded, message);

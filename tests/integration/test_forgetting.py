@@ -7,6 +7,7 @@ import json
 import os
 import sqlite3
 import struct
+import threading
 import time
 import unittest
 
@@ -161,6 +162,53 @@ class ForgetJobTest(unittest.TestCase):
             self.assertEqual(out.returncode, 2, (args, out.stdout, out.stderr))
             self.assertIn(word, out.stderr.lower() if word.islower() else out.stderr, args)
             self.assertEqual(out.stdout, "", args)
+
+
+class ForgetConcurrencyTest(unittest.TestCase):
+    """Jobs with a vacuum run while other clients write and submit more jobs: nobody waits for a lock until the
+    busy timeout. (Regression: the submission held the job service's mutex while it waited for the write lock; the
+    running job, holding the write lock, waited for that mutex to report progress -- both stuck until the 5 s busy
+    timeout, and the submission answered 503 'database is locked'.)"""
+
+    def setUp(self):
+        self.server = harness.Server(self)
+        self.c = self.server.client
+
+    def test_submissions_and_writes_during_vacuum_jobs_are_not_refused(self):
+        refused = []
+
+        def submit_forgets(map_id, n):
+            client = self.server.make_client()
+            for _ in range(n):
+                try:
+                    client.request("POST", "/v1/maps/%s:forget" % map_id, {"policy": {"vacuum": True}})
+                except ApiError as e:
+                    if not (e.status == 503 and "queue is full" in e.message):
+                        refused.append(("forget", e.status, e.message))
+
+        def write_maps(prefix, n):
+            client = self.server.make_client()
+            for k in range(n):
+                try:
+                    client.create_map("%s%d" % (prefix, k))
+                except ApiError as e:
+                    refused.append(("map", e.status, e.message))
+
+        for round_ in range(6):
+            map_id = "home%d" % round_
+            self.c.create_map(map_id)
+            for k in range(100):  # something for the vacuum to move
+                self.c.put_agent(map_id, "a%d" % k, [1.0, 1.0], 0.0)
+            threads = [threading.Thread(target=submit_forgets, args=(map_id, 40)),
+                       threading.Thread(target=write_maps, args=("r%d_a" % round_, 25)),
+                       threading.Thread(target=write_maps, args=("r%d_b" % round_, 25))]
+            for t in threads:
+                t.start()
+            for t in threads:
+                t.join()
+        self.server.check_alive()
+        self.assertEqual(refused, [])
+        self.assertEqual(len(self.c.list_maps(limit=1000)["maps"]), 6 * 51)
 
 
 class ForgetBadInputTest(unittest.TestCase):
