@@ -195,6 +195,13 @@ Json SceneService::AddFrame(const std::string& map, std::int64_t id, const Frame
   if (m.record.status != "observing") {
     throw Error(ErrorCode::kConflict, "scene " + std::to_string(id) + " is " + m.record.status + "; open a new one", "scene");
   }
+  // The PNG header's size is checked before decoding: a few bytes may declare a huge image.
+  const auto declared = in.png ? engine::PngSize(in.body) : std::nullopt;
+  if (declared && (declared->first != m.K.width || declared->second != m.K.height)) {
+    throw Error(ErrorCode::kUnprocessable,
+                "depth is " + std::to_string(declared->first) + "x" + std::to_string(declared->second) +
+                    " but the model's camera is " + std::to_string(m.K.width) + "x" + std::to_string(m.K.height), "depth");
+  }
   engine::DepthImage depth = in.png ? engine::DecodeDepthPng(in.body, "depth")
                                     : engine::DecodeDepthRaw(in.body, m.K.width, m.K.height, "depth");
   if (depth.width != m.K.width || depth.height != m.K.height) {

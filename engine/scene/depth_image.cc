@@ -9,9 +9,14 @@ namespace anchordb::engine {
 namespace {
 
 cv::Mat DecodePng(std::string_view bytes, const std::string& field) {
-  static constexpr unsigned char kPngMagic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (bytes.size() < 8 || std::memcmp(bytes.data(), kPngMagic, 8) != 0) {
-    throw Error(ErrorCode::kInvalidArgument, field + ": not a PNG image", field);
+  const auto size = PngSize(bytes);
+  if (!size) throw Error(ErrorCode::kInvalidArgument, field + ": not a PNG image", field);
+  // The header's size decides before anything is allocated: a few bytes may declare gigapixels.
+  if (static_cast<std::uint64_t>(size->first) * static_cast<std::uint64_t>(size->second) > kMaxPngPixels) {
+    throw Error(ErrorCode::kPayloadTooLarge,
+                field + ": the PNG declares " + std::to_string(size->first) + "x" + std::to_string(size->second) +
+                    " pixels, more than " + std::to_string(kMaxPngPixels),
+                field);
   }
   const cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data()));
   cv::Mat m = cv::imdecode(raw, cv::IMREAD_UNCHANGED);
@@ -26,6 +31,21 @@ std::string Encode(const cv::Mat& m) {
 }
 
 }  // namespace
+
+std::optional<std::pair<int, int>> PngSize(std::string_view bytes) {
+  static constexpr unsigned char kPngMagic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  // Signature, then the IHDR chunk: length (4), "IHDR", width (4, big-endian), height (4).
+  if (bytes.size() < 24 || std::memcmp(bytes.data(), kPngMagic, 8) != 0 || bytes.substr(12, 4) != "IHDR") {
+    return std::nullopt;
+  }
+  const auto be32 = [&](std::size_t o) {
+    return (std::uint32_t(std::uint8_t(bytes[o])) << 24) | (std::uint32_t(std::uint8_t(bytes[o + 1])) << 16) |
+           (std::uint32_t(std::uint8_t(bytes[o + 2])) << 8) | std::uint32_t(std::uint8_t(bytes[o + 3]));
+  };
+  const std::uint32_t w = be32(16), h = be32(20);
+  if (w == 0 || h == 0 || w > 0x7fffffffu || h > 0x7fffffffu) return std::nullopt;  // the PNG spec's range
+  return std::pair<int, int>(static_cast<int>(w), static_cast<int>(h));
+}
 
 DepthImage DecodeDepthPng(std::string_view bytes, const std::string& field) {
   const cv::Mat m = DecodePng(bytes, field);

@@ -2,6 +2,7 @@
 // a restart in the middle, and bad input refused without changing the model.
 #include "api/http_api.h"  // Eigen before httplib (see api/http_api.h)
 #include "engine/scene/depth_image.h"
+#include "schema/error.h"
 #include "sim/apartment.h"
 #include "sim/renderer.h"
 #include "tests/support/server_process.h"
@@ -186,6 +187,22 @@ TEST_F(SceneHttpTest, BadInputIsRefusedAndChangesNothing) {
   // An 8-bit PNG where 16-bit depth is needed.
   std::vector<std::uint8_t> grey(64 * 48, 7);
   expect_error(client_->Post(base + "/frames", engine::EncodeGreyPng(grey, 64, 48), "image/png"), 400, "invalid_argument");
+  // A PNG whose header declares 60000 x 60000 pixels (a decompression bomb: a few bytes, 7 GB decoded) is refused
+  // from its header, before anything is allocated: the camera's size does not match.
+  std::string bomb = engine::EncodeDepthPng(depth, 64, 48);
+  const auto put_be32 = [&](std::size_t offset, std::uint32_t v) {
+    for (int k = 0; k < 4; ++k) bomb[offset + k] = static_cast<char>((v >> (24 - 8 * k)) & 0xff);
+  };
+  put_be32(16, 60000);
+  put_be32(20, 60000);
+  expect_error(client_->Post(base + "/frames", bomb, "image/png"), 422, "unprocessable");
+  // The same header decoded without a camera to compare with: refused for its size, not allocated.
+  try {
+    engine::DecodeDepthPng(bomb, "depth");
+    ADD_FAILURE() << "a 60000 x 60000 PNG was decoded";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kPayloadTooLarge) << e.what();
+  }
   // A truncated raw body.
   std::string raw(reinterpret_cast<const char*>(depth.data()), depth.size() * 2);
   expect_error(client_->Post(base + "/frames", raw.substr(0, raw.size() - 10), "application/octet-stream"), 400, "invalid_argument");
