@@ -19,18 +19,35 @@ namespace {
 
 constexpr int kObject1 = 11, kObject2 = 12, kObject3 = 13, kObject4 = 14;
 
+// Adds an axis-aligned box (object `id`, created on first use) to the scene.
+void AddBox(sim::Scene& s, int id, const std::string& kind, const Eigen::Vector3d& centre, const Eigen::Vector3d& size) {
+  bool known = false;
+  for (const auto& o : s.objects) known = known || o.id == id;
+  if (!known) s.objects.push_back({id, "o" + std::to_string(id), kind});
+  sim::Primitive p;
+  p.object_id = id;
+  p.shape = sim::Shape::kBox;
+  p.X_WorldPrim.translation() = centre;
+  p.size_m = size;
+  s.primitives.push_back(p);
+}
+
+// The scene model viewpoint A builds from 8 frames of `scene`, as an earlier model for the merge.
+PriorModel ObservedFrom(const sim::Scene& scene, const PinholeIntrinsics& K, const Eigen::Isometry3d& X_A) {
+  SceneModelState a = NewSceneModel(K.width, K.height);
+  for (int i = 0; i < 8; ++i) ApplyFrame(a, sim::Render(scene, K, X_A, sim::SensorModel{}, 10 + i).depth_mm, 1000.0, {}, {});
+  PriorModel prior;
+  prior.id = 1;
+  prior.K = K;
+  prior.X_MapCamera = X_A;
+  prior.background_m = a.background_m;
+  return prior;
+}
+
 sim::Scene Room(bool with_1, bool with_4) {
   sim::Scene s;
-  auto box = [&s](int id, const std::string& kind, Eigen::Vector3d centre, Eigen::Vector3d size) {
-    bool known = false;
-    for (const auto& o : s.objects) known = known || o.id == id;
-    if (!known) s.objects.push_back({id, "o" + std::to_string(id), kind});
-    sim::Primitive p;
-    p.object_id = id;
-    p.shape = sim::Shape::kBox;
-    p.X_WorldPrim.translation() = centre;
-    p.size_m = size;
-    s.primitives.push_back(p);
+  const auto box = [&s](int id, const std::string& kind, Eigen::Vector3d centre, Eigen::Vector3d size) {
+    AddBox(s, id, kind, centre, size);
   };
   box(1, "static", {3.5, 0.0, -0.05}, {9.0, 8.0, 0.1});    // floor, x -1..8
   box(2, "static", {3.0, -0.6, 1.0}, {0.1, 1.8, 2.0});     // a panel, y -1.5..0.3: near background
@@ -53,8 +70,7 @@ TEST(MergePremisesTest, Figure39Situations) {
   const Eigen::Isometry3d X_B = sim::LookAt({0.2, 0.7, 1.2}, {3.0, -0.2, 0.6});
   sim::SensorModel sensor;
   // Viewpoint A observes the room without objects 1 and 4.
-  SceneModelState a = NewSceneModel(K.width, K.height);
-  for (int i = 0; i < 8; ++i) ApplyFrame(a, sim::Render(Room(false, false), K, X_A, sensor, 10 + i).depth_mm, 1000.0, {}, {});
+  const PriorModel prior = ObservedFrom(Room(false, false), K, X_A);
   // Precondition of the scenario: object 3 lies outside A's view, object 4's upper part before unknown background.
   const sim::Frame a_with_4 = sim::Render(Room(false, true), K, X_A, sensor, 99);
   std::size_t seen3 = 0, seen4 = 0;
@@ -62,11 +78,6 @@ TEST(MergePremisesTest, Figure39Situations) {
   ASSERT_EQ(seen3, 0u);
   ASSERT_GT(seen4, 500u);
 
-  PriorModel prior;
-  prior.id = 1;
-  prior.K = K;
-  prior.X_MapCamera = X_A;
-  prior.background_m = a.background_m;
   SceneModelState b = NewSceneModel(K.width, K.height);
   const sim::Scene now = Room(true, true);
   const sim::Frame first = sim::Render(now, K, X_B, sensor, 50);
@@ -128,32 +139,17 @@ TEST(MergePremisesTest, RearProjectionStopsWhereTheEarlierCameraSawNoMore) {
   constexpr int kObject5 = 15;
   const auto room = [](bool with_5) {
     sim::Scene s;
-    auto box = [&s](int id, const std::string& kind, Eigen::Vector3d centre, Eigen::Vector3d size) {
-      s.objects.push_back({id, "o" + std::to_string(id), kind});
-      sim::Primitive p;
-      p.object_id = id;
-      p.shape = sim::Shape::kBox;
-      p.X_WorldPrim.translation() = centre;
-      p.size_m = size;
-      s.primitives.push_back(p);
-    };
-    box(1, "static", {2.0, 0.0, -0.05}, {6.0, 6.0, 0.1});   // floor
-    box(2, "static", {4.05, 0.0, 1.0}, {0.1, 6.0, 2.0});    // wall, x = 4, within range
-    box(3, "static", {2.0, -0.6, 0.8}, {0.2, 0.2, 1.6});    // pillar straight ahead of A: its shadow on the wall
-    if (with_5) box(kObject5, "movable", {3.0, -0.2, 0.25}, {0.2, 0.2, 0.5});
+    AddBox(s, 1, "static", {2.0, 0.0, -0.05}, {6.0, 6.0, 0.1});  // floor
+    AddBox(s, 2, "static", {4.05, 0.0, 1.0}, {0.1, 6.0, 2.0});   // wall, x = 4, within range
+    AddBox(s, 3, "static", {2.0, -0.6, 0.8}, {0.2, 0.2, 1.6});   // pillar straight ahead of A: its shadow on the wall
+    if (with_5) AddBox(s, kObject5, "movable", {3.0, -0.2, 0.25}, {0.2, 0.2, 0.5});
     return s;
   };
   const PinholeIntrinsics K = sim::KinectIntrinsics();
   const Eigen::Isometry3d X_A = sim::LookAt({0.0, -0.6, 1.0}, {3.0, -0.4, 0.5});
   const Eigen::Isometry3d X_B = sim::LookAt({0.2, 0.7, 1.0}, {3.0, -0.2, 0.5});
   sim::SensorModel sensor;
-  SceneModelState a = NewSceneModel(K.width, K.height);
-  for (int i = 0; i < 8; ++i) ApplyFrame(a, sim::Render(room(false), K, X_A, sensor, 10 + i).depth_mm, 1000.0, {}, {});
-  PriorModel prior;
-  prior.id = 1;
-  prior.K = K;
-  prior.X_MapCamera = X_A;
-  prior.background_m = a.background_m;
+  const PriorModel prior = ObservedFrom(room(false), K, X_A);
 
   SceneModelState b = NewSceneModel(K.width, K.height);
   const sim::Frame first = sim::Render(room(true), K, X_B, sensor, 50);
