@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "engine/grid/raster.h"
+#include "engine/grid/visibility.h"
 #include "schema/error.h"
 
 namespace anchordb::engine {
@@ -44,7 +45,6 @@ ObservationCounts ApplyObservation(const OccupancyGrid& occupancy, const Occupan
   if (!(occupancy.geometry == g)) {
     throw Error(ErrorCode::kUnprocessable, "probability layer and its base layer have different grids");
   }
-  ObservationCounts counts;
   const Eigen::Vector2d sensor_grid = g.MapToGrid(obs.sensor_position_m);
   const double range_cells = obs.range_m / g.resolution_m;
   const int ix0 = std::max(0, static_cast<int>(std::floor(sensor_grid.x() - range_cells)));
@@ -54,14 +54,21 @@ ObservationCounts ApplyObservation(const OccupancyGrid& occupancy, const Occupan
 
   MaskGrid stimulus(g, 0);
   const std::size_t stimulus_cells = RasterisePolygons(obs.stimulus_M, stimulus);
-  std::size_t stimulus_seen = 0;
 
   const double half_fov = obs.fov_rad / 2.0;
   const bool full_circle = obs.fov_rad >= 2.0 * std::numbers::pi - 1e-9;
   // The heading in grid coordinates (the grid may be rotated in the map frame).
   const double heading_grid = obs.heading_rad - g.origin_yaw_rad;
   const double range_sq = range_cells * range_cells;
+  // Same answers as IsOccluded per cell, without a traversal per cell (see visibility.h).
+  OcclusionIndex occlusion(occupancy, t, sensor_grid, range_cells);
+  const int occupied_min = t.occupied_min;
+  std::size_t raised = 0, lowered = 0, blocked = 0;
   for (int iy = iy0; iy <= iy1; ++iy) {
+    const std::size_t row = static_cast<std::size_t>(iy) * g.width_cells;
+    const std::int8_t* const occupancy_row = occupancy.cells.data() + row;
+    const std::uint8_t* const stimulus_row = stimulus.cells.data() + row;
+    float* const log_odds_row = log_odds.cells.data() + row;
     for (int ix = ix0; ix <= ix1; ++ix) {
       const double dx = ix + 0.5 - sensor_grid.x(), dy = iy + 0.5 - sensor_grid.y();
       if (dx * dx + dy * dy > range_sq) continue;
@@ -69,22 +76,26 @@ ObservationCounts ApplyObservation(const OccupancyGrid& occupancy, const Occupan
         const double angle = std::remainder(std::atan2(dy, dx) - heading_grid, 2.0 * std::numbers::pi);
         if (std::abs(angle) > half_fov) continue;
       }
-      if (IsOccupied(occupancy.at(ix, iy), t) || IsOccluded(occupancy, t, sensor_grid, ix, iy)) {
-        ++counts.unchanged_blocked;
+      if (occupancy_row[ix] >= occupied_min || occlusion.IsOccluded(ix, iy)) {
+        ++blocked;
         continue;
       }
-      float& l = log_odds.at(ix, iy);
-      if (stimulus.at(ix, iy)) {
+      float& l = log_odds_row[ix];
+      if (stimulus_row[ix]) {
         l = model.Raise(l);
-        ++counts.raised;
-        ++stimulus_seen;
+        ++raised;
       } else {
         l = model.Lower(l);
-        ++counts.lowered;
+        ++lowered;
       }
     }
   }
-  counts.stimulus_outside_view = stimulus_cells - stimulus_seen;
+  ObservationCounts counts;
+  counts.raised = raised;
+  counts.lowered = lowered;
+  counts.unchanged_blocked = blocked;
+  // Every raised cell is a stimulus cell the sensor saw.
+  counts.stimulus_outside_view = stimulus_cells - raised;
   return counts;
 }
 
