@@ -178,7 +178,7 @@ struct View {
   double max_range_m = 100.0;
 };
 
-View MakeView(const sim::Scene& scene_without, const Isometry3d& X_WC, const PinholeIntrinsics& K,
+inline View MakeView(const sim::Scene& scene_without, const Isometry3d& X_WC, const PinholeIntrinsics& K,
               double max_range_m = 100.0) {
   View v{X_WC, X_WC.inverse(), K, sim::Render(scene_without, K, X_WC, Noiseless(), 0).true_depth_m, max_range_m};
   return v;
@@ -313,7 +313,7 @@ inline std::string Fmt(const Vector3d& d) {
   return s.str();
 }
 
-[[noreturn]] void NoSpot(MergeCase c, sim::Setting s, const char* what) {
+[[noreturn]] inline void NoSpot(MergeCase c, sim::Setting s, const char* what) {
   throw std::runtime_error(std::string("merge case ") + MergeCaseName(c) + " in " + sim::SettingName(s) +
                            ": no place found for " + what);
 }
