@@ -1,0 +1,171 @@
+#pragma once
+// Internal to tests/storage/forgetting*_test.cc: a store on a real SQLite file with one map ("home"), builders for
+// scene models, keyframes, segments, instances and events at chosen ages, dumps of every row, and Forget run at kNow.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <functional>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "storage/event_repository.h"
+#include "storage/forgetting.h"
+#include "storage/repositories.h"
+#include "storage/scene_repository.h"
+#include "storage/store.h"
+#include "tests/support/temp_dir.h"
+
+namespace anchordb::storage::forget_test {
+
+constexpr std::int64_t kSecond = 1000000000LL;
+constexpr std::int64_t kDay = 86400 * kSecond;
+constexpr std::int64_t kNow = 20000 * kDay;
+
+// Every row of every table (rtree shadow tables included), sorted: equal dumps mean nothing changed.
+inline std::string DumpAll(Connection& c) {
+  std::vector<std::string> tables;
+  {
+    Statement s(c, "SELECT name FROM sqlite_master WHERE type = 'table' AND sql NOT LIKE 'CREATE VIRTUAL%' ORDER BY name");
+    while (s.Step()) tables.push_back(s.Text(0));
+  }
+  std::string out;
+  for (const std::string& t : tables) {
+    std::string columns;
+    Statement info(c, "SELECT name FROM pragma_table_info(?)");
+    info.Bind(1, t);
+    while (info.Step()) columns += (columns.empty() ? "quote(\"" : " || ',' || quote(\"") + info.Text(0) + "\")";
+    std::vector<std::string> rows;
+    Statement s(c, "SELECT " + columns + " FROM \"" + t + "\"");
+    while (s.Step()) rows.push_back(s.Text(0));
+    std::sort(rows.begin(), rows.end());
+    out += "[" + t + "]\n";
+    for (const auto& r : rows) out += r + "\n";
+  }
+  return out;
+}
+
+inline std::string ForeignKeyCheck(Connection& c) {
+  Statement s(c, "PRAGMA foreign_key_check");
+  std::string out;
+  while (s.Step()) out += s.Text(0) + " rowid " + std::to_string(s.Int(1)) + " -> " + s.Text(2) + "; ";
+  return out;
+}
+
+inline std::int64_t Count(Connection& c, const std::string& sql) {
+  Statement s(c, sql);
+  return s.Step() ? s.Int(0) : -1;
+}
+
+class ForgetFixture : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    StoreOptions o;
+    o.path = dir_.File("db.sqlite");
+    o.reader_connections = 1;
+    store_ = std::make_unique<Store>(o);
+    store_->Write([](Connection& c) { InsertMap(c, {"home", "test", 1}); });
+  }
+
+  std::int64_t Scene(const std::string& status, std::optional<std::int64_t> ended_ns,
+                     std::optional<std::int64_t> superseded_by, std::size_t state_bytes = 3000) {
+    return store_->Write([&](Connection& c) {
+      SceneRecord r;
+      r.map_id = "home";
+      r.status = "observing";
+      r.intrinsics_json = R"({"width":8,"height":6,"fx":5,"fy":5,"cx":4,"cy":3})";
+      r.pose_json = R"({"position":[0,0,0],"orientation":[0,0,0,1]})";
+      r.params_json = "{}";
+      r.started_ns = kNow - 60 * kDay;
+      r.id = InsertScene(c, r);
+      r.background = std::string(state_bytes, 'b');
+      r.weight = std::string(state_bytes, 'w');
+      r.labels = std::string(state_bytes / 2, 'l');
+      r.frames = 10;
+      r.state_version = 1;
+      UpdateSceneState(c, r, 0);
+      UpdateSceneStatus(c, r.id, status, ended_ns, superseded_by);
+      return r.id;
+    });
+  }
+
+  std::int64_t Keyframe(std::int64_t scene, std::int64_t stamp_ns, bool pinned = false, double relevance = 0.0,
+                        std::size_t bytes = 500) {
+    return store_->Write([&](Connection& c) {
+      KeyframeRecord k;
+      k.map_id = "home";
+      k.scene_id = scene;
+      k.kind = "manual";
+      k.stamp_ns = stamp_ns;
+      k.width = 8;
+      k.height = 6;
+      k.depth = RandomBytes(bytes);
+      k.background = RandomBytes(bytes);
+      k.raw_bytes = 2 * 2 * 48;
+      k.stored_bytes = static_cast<std::int64_t>(2 * bytes);
+      k.pinned = pinned;
+      const std::int64_t id = InsertKeyframe(c, k);
+      SetKeyframeRelevance(c, "home", id, relevance);  // InsertKeyframe leaves relevance at its default 0
+      return id;
+    });
+  }
+
+  std::int64_t Segment(std::int64_t keyframe) {
+    return store_->Write([&](Connection& c) {
+      SegmentRecord s;
+      s.map_id = "home";
+      s.keyframe_id = keyframe;
+      s.points = 40;
+      s.sample = std::string(48, 's');
+      return InsertSegment(c, s);
+    });
+  }
+
+  std::int64_t Instance(bool pinned) {
+    return store_->Write([&](Connection& c) {
+      InstanceRecord r;
+      r.map_id = "home";
+      r.pinned = pinned;
+      r.last_seen_ns = r.created_ns = r.updated_ns = kNow - 30 * kDay;
+      return InsertInstance(c, r);
+    });
+  }
+
+  std::int64_t Event(const std::string& type, std::int64_t stamp_ns, std::optional<std::int64_t> instance,
+                     std::optional<std::int64_t> segment, std::vector<EvidenceRecord> evidence, bool pinned = false) {
+    return store_->Write([&](Connection& c) {
+      EventRecord e;
+      e.map_id = "home";
+      e.type = type;
+      e.detection = type == "labelled" ? "dialog" : "observed";
+      e.stamp_ns = stamp_ns;
+      e.instance_id = instance;
+      e.segment_id = segment;
+      e.pinned = pinned;
+      e.created_ns = stamp_ns;
+      e.evidence = std::move(evidence);
+      return InsertEvent(c, e);
+    });
+  }
+
+  std::string RandomBytes(std::size_t n) {
+    std::string s(n, '\0');
+    for (char& ch : s) ch = static_cast<char>(rng_() & 0xff);
+    return s;
+  }
+
+  std::string Dump() { return store_->Write([](Connection& c) { return DumpAll(c); }); }
+
+  ForgetReport Run(const ForgetPolicy& policy, bool dry_run, const ForgetProgress& progress = {},
+                   const ForgetBeforeCommit& before_commit = {}) {
+    Connection c(store_->path(), {});
+    return Forget(c, "home", policy, kNow, dry_run, progress, before_commit);
+  }
+
+  testing::TempDir dir_;
+  std::unique_ptr<Store> store_;
+  std::mt19937 rng_{7};
+};
+
+}  // namespace anchordb::storage::forget_test
