@@ -15,6 +15,7 @@
 
 #include "engine/scene/projection.h"
 #include "sim/renderer.h"
+#include "tests/eval/merge_cases.h"  // MergeCase, MergeCaseName (NoSpot)
 
 namespace anchordb::eval::geometry {
 
