@@ -17,6 +17,15 @@ void HttpApi::AddJobRoutes() {
         r.headers["Location"] = "/v1/jobs/" + std::to_string(job["job"].get<std::int64_t>());
         return r;
       });
+  Add("POST", "/v1/backups", Role::kAdmin,
+      "Online backup of the whole database as a job ({\"label\"?}); the copy goes to the server's backup_dir and "
+      "the job's result names the file; 202 with the job",
+      [&j](const httplib::Request& req, const PathParams&) {
+        const Json job = j.SubmitBackup(BodyObject(req));
+        Response r = JsonResponse(job, 202);
+        r.headers["Location"] = "/v1/jobs/" + std::to_string(job["job"].get<std::int64_t>());
+        return r;
+      });
   Add("GET", "/v1/jobs/{job}", Role::kReader, "A job: status, stage, progress, request, result, error",
       [&j](const httplib::Request&, const PathParams& p) { return JsonResponse(j.Get(PathId(p, "job", "job"))); });
 }

@@ -5,6 +5,7 @@
 #include <chrono>
 
 #include "schema/error.h"
+#include "storage/backup.h"
 #include "storage/forgetting.h"
 #include "storage/repositories.h"
 
@@ -46,6 +47,22 @@ Json JobService::SubmitForget(const std::string& map, const Json& body) {
   const storage::ForgetRequest request = storage::ParseForgetRequest(body);  // throws on bad input: nothing queued
   Json stored = {{"policy", storage::ToJson(request.policy)}, {"dry_run", request.dry_run}};
   if (request.now_ns) stored["now"] = *request.now_ns;
+  const std::int64_t id = Enqueue("forget", map, stored);
+  return {{"job", id}, {"status", "queued"}, {"kind", "forget"}, {"map", map}, {"request", stored}};
+}
+
+Json JobService::SubmitBackup(const Json& body) {
+  json::RejectUnknownKeys(body, {"label"});
+  const std::string label = json::OptionalString(body, "label", 64).value_or("");
+  if (!label.empty()) json::CheckId(label, "label");  // it becomes part of a file name
+  if (settings_.backup_dir.empty()) throw Error(ErrorCode::kUnprocessable, "this server has no backup_dir", "backup_dir");
+  const std::string file = storage::BackupFileName(settings_.backup_dir, store_.path(), NowNs(), label);
+  const Json stored = {{"file", file}};
+  const std::int64_t id = Enqueue("backup", std::nullopt, stored);
+  return {{"job", id}, {"status", "queued"}, {"kind", "backup"}, {"map", nullptr}, {"request", stored}};
+}
+
+std::int64_t JobService::Enqueue(const std::string& kind, const std::optional<std::string>& map, const Json& request) {
   {
     // The queue slot is taken under the mutex, the job row written without it: the running job takes the mutex
     // (progress) while it holds the database's write lock, so waiting for that lock here under the mutex would
@@ -61,8 +78,8 @@ Json JobService::SubmitForget(const std::string& map, const Json& body) {
   std::int64_t id = 0;
   try {
     id = store_.Write([&](storage::Connection& c) {
-      if (!storage::FindMap(c, map)) throw Error(ErrorCode::kNotFound, "map '" + map + "' does not exist", "map");
-      return storage::InsertJob(c, "forget", map, stored.dump(), NowNs());
+      if (map && !storage::FindMap(c, *map)) throw Error(ErrorCode::kNotFound, "map '" + *map + "' does not exist", "map");
+      return storage::InsertJob(c, kind, map, request.dump(), NowNs());
     });
   } catch (...) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -76,7 +93,7 @@ Json JobService::SubmitForget(const std::string& map, const Json& body) {
     ++pending_;  // the worker looks for a queued row only now that it is committed
   }
   wake_.notify_all();
-  return {{"job", id}, {"status", "queued"}, {"kind", "forget"}, {"map", map}, {"request", stored}};
+  return id;
 }
 
 Json JobService::Get(std::int64_t id) {
@@ -143,9 +160,13 @@ void JobService::RunJob(std::int64_t id) {
     const auto job = store_.Write([&](storage::Connection& c) {
       auto r = storage::FindJob(c, id);
       if (!r) throw Error(ErrorCode::kNotFound, "job vanished");
-      SetJobStatus(c, id, "running", "forgetting", 0.0, nullptr, nullptr);
+      SetJobStatus(c, id, "running", r->kind == "backup" ? "copying" : "forgetting", 0.0, nullptr, nullptr);
       return *r;
     });
+    if (job.kind == "backup") {
+      RunBackup(id, Json::parse(job.request_json).at("file").get<std::string>());
+      return;
+    }
     map = job.map_id.value_or("");
     request = storage::ParseForgetRequest(Json::parse(job.request_json));
     {
@@ -215,6 +236,23 @@ void JobService::RunJob(std::int64_t id) {
       // The job row cannot be updated (the database is gone or read-only): start-up marks it interrupted.
     }
   }
+}
+
+void JobService::RunBackup(std::int64_t id, const std::string& file) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    live_id_ = id;
+    live_stage_ = "copying";
+    live_progress_ = 0.0;
+  }
+  const storage::BackupReport report =
+      storage::Backup(store_.path(), file, settings_.busy_timeout_ms, [&](double fraction) {
+        if (interrupt_) throw Error(ErrorCode::kOverloaded, kInterrupted);
+        std::lock_guard<std::mutex> lock(mutex_);
+        live_progress_ = 0.95 * fraction;  // the integrity check and the sync come after the copy
+      });
+  const Json result = report.ToJson();
+  store_.Write([&](storage::Connection& c) { SetJobStatus(c, id, "succeeded", "done", 1.0, &result, nullptr); });
 }
 
 }  // namespace anchordb::api

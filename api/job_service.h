@@ -1,6 +1,7 @@
 #pragma once
 // Long work as jobs (SPEC §3 "Jobs", §5 "long work returns 202 with a job"): persisted in the jobs table, run one at a
-// time in submission order by one worker thread. Today the only kind is "forget" (storage/forgetting.h).
+// time in submission order by one worker thread. Kinds: "forget" (storage/forgetting.h) and "backup"
+// (storage/backup.h: an online copy of the file; a kill leaves no copy under the final name, only a ".partial").
 //
 // - Submit validates synchronously: bad input throws (nothing is queued), an unknown map is 404, a full queue 503.
 // - The forgetting transaction records the job's outcome in the same commit as the deletions, so a job is either
@@ -14,6 +15,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -29,6 +31,7 @@ struct JobSettings {
   int max_queued = 16;               // more queued jobs: 503
   int busy_timeout_ms = 30000;       // the job's own connection waits this long for the write lock
   std::string synchronous = "FULL";  // of the job's connection (as the store's)
+  std::string backup_dir;            // where backups go; empty: backups are refused
 };
 
 class JobService {
@@ -40,6 +43,9 @@ class JobService {
 
   // Body {"policy": {...}, "dry_run": bool}; returns {"job", "status": "queued", "kind", "map"}.
   Json SubmitForget(const std::string& map, const Json& body);
+  // Body {"label"?: id}: an online copy of the whole database into settings.backup_dir (storage/backup.h); the
+  // job's result names the file. Returns {"job", "status": "queued", "kind": "backup", "request": {"file"}}.
+  Json SubmitBackup(const Json& body);
   // {id, kind, map, status, stage, progress, request, result, error, created_ns, updated_ns}; unknown id: 404.
   Json Get(std::int64_t id);
   // Jobs marked failed at start-up because a server stop interrupted them.
@@ -48,8 +54,11 @@ class JobService {
   bool WaitIdle(double timeout_s);
 
  private:
+  // Reserves a queue slot, writes the queued row (map checked when given) and wakes the worker; returns its id.
+  std::int64_t Enqueue(const std::string& kind, const std::optional<std::string>& map, const Json& request);
   void Worker();
   void RunJob(std::int64_t id);
+  void RunBackup(std::int64_t id, const std::string& file);
 
   storage::Store& store_;
   JobSettings settings_;

@@ -49,6 +49,8 @@ Binding Bind(std::string name, std::string description, T Config::*field, double
 const std::vector<Binding>& Bindings() {
   static const std::vector<Binding> kBindings = {
       Bind("db", "SQLite database file (created and migrated at start-up)", &Config::db),
+      Bind("backup_dir", "directory of the online backups (POST /v1/backups); empty: 'backups' beside the database",
+           &Config::backup_dir),
       Bind("bind", "address to listen on; any non-loopback address requires API tokens", &Config::bind),
       Bind("port", "TCP port (0 = any free port, printed at start-up)", &Config::port, 0, 65535),
       Bind("threads", "HTTP worker threads; cpp-httplib holds one per open keep-alive connection, so this bounds the "

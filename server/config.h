@@ -14,6 +14,7 @@ namespace anchordb::server {
 
 struct Config {
   std::string db = "./var/anchordb.sqlite";
+  std::string backup_dir;  // empty: "backups" beside the database file
   std::string bind = "127.0.0.1";
   int port = 8765;
   int threads = 32;

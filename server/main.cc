@@ -1,8 +1,9 @@
-// anchordb: the spatial memory server. Subcommands: serve, token create, forget, version.
+// anchordb: the spatial memory server. Subcommands: serve, token create, forget, backup, version.
 #include <malloc.h>
 #include <signal.h>
 
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <ctime>
 #include <fstream>
@@ -16,6 +17,7 @@
 #include "schema/error.h"
 #include "server/auth.h"
 #include "server/config.h"
+#include "storage/backup.h"
 #include "storage/forgetting.h"
 #include "storage/repositories.h"
 #include "storage/store.h"
@@ -47,6 +49,12 @@ std::map<std::string, std::string> Environment() {
     if (eq != std::string::npos && kv.rfind("ANCHORDB_", 0) == 0) env[kv.substr(0, eq)] = kv.substr(eq + 1);
   }
   return env;
+}
+
+// The directory of online backups: the setting, or "backups" beside the database file.
+std::string BackupDir(const Config& c) {
+  if (!c.backup_dir.empty()) return c.backup_dir;
+  return (std::filesystem::path(c.db).parent_path() / "backups").string();
 }
 
 storage::StoreOptions StoreOptionsOf(const Config& c) {
@@ -158,6 +166,7 @@ int Serve(const Config& config) {
   options.max_body_bytes = static_cast<std::size_t>(config.max_body_bytes);
   api::JobSettings job_settings;
   job_settings.synchronous = config.synchronous;
+  job_settings.backup_dir = BackupDir(config);
   api::JobService jobs(store, job_settings);
   if (jobs.interrupted_at_start() > 0) {
     Log("jobs interrupted by the previous stop, marked failed: " + std::to_string(jobs.interrupted_at_start()));
@@ -196,6 +205,34 @@ int Serve(const Config& config) {
   scenes.PersistAll();
   Log("stopped; scene models persisted, database closed cleanly");
   return ok ? 0 : 1;
+}
+
+// anchordb backup --db FILE [--out FILE | --label ID]: an online copy of the database (the server may be running
+// and writing); prints the report as JSON. Bad input: exit 2.
+int BackupCommand(const std::vector<std::string>& args) {
+  std::string out, label;
+  std::vector<std::string> rest;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if ((a == "--out" || a == "--label") && i + 1 >= args.size()) throw std::invalid_argument(a + " needs a value");
+    if (a == "--out") out = args[++i];
+    else if (a.rfind("--out=", 0) == 0) out = a.substr(6);
+    else if (a == "--label") label = args[++i];
+    else if (a.rfind("--label=", 0) == 0) label = a.substr(8);
+    else rest.push_back(a);
+  }
+  const Config config = LoadConfig(rest, Environment());
+  if (!label.empty() && !json::IsValidId(label)) throw std::invalid_argument("--label: not a valid id: " + label);
+  if (!std::filesystem::exists(config.db)) throw std::invalid_argument("no database at " + config.db);
+  if (out.empty()) {
+    const std::int64_t now_ns =
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+    out = storage::BackupFileName(BackupDir(config), config.db, now_ns, label);
+  }
+  if (std::filesystem::exists(out)) throw std::invalid_argument("--out: " + out + " exists already");
+  const storage::BackupReport report = storage::Backup(config.db, out, config.busy_timeout_ms);
+  std::cout << report.ToJson().dump(1) << "\n";
+  return 0;
 }
 
 // anchordb forget --db FILE --map ID [--policy JSON] [--dry-run] [--vacuum]: one forgetting run (for cron); prints
@@ -253,6 +290,7 @@ void Usage() {
                "  anchordb serve [--config file.json] [--<setting>=<value> ...]\n"
                "  anchordb token create --role reader|writer|admin [--db file]\n"
                "  anchordb forget --db file --map ID [--policy JSON] [--dry-run] [--vacuum]\n"
+               "  anchordb backup --db file [--out file | --label ID]\n"
                "  anchordb version\n\nsettings (also ANCHORDB_<NAME> environment variables):\n"
             << SettingsHelp();
 }
@@ -276,6 +314,7 @@ int Main(int argc, char** argv) {
       return Serve(LoadConfig(rest, Environment()));
     }
     if (args[0] == "forget") return Forget(std::vector<std::string>(args.begin() + 1, args.end()));
+    if (args[0] == "backup") return BackupCommand(std::vector<std::string>(args.begin() + 1, args.end()));
     if (args.size() >= 2 && args[0] == "token" && args[1] == "create") {
       std::string role;
       std::vector<std::string> rest;

@@ -22,8 +22,9 @@ struct JobRecord {
   std::int64_t updated_ns = 0;
 };
 
-std::int64_t InsertJob(Connection& c, const std::string& kind, const std::string& map_id, const std::string& request_json,
-                       std::int64_t now_ns);
+// map_id: the map the job works on, or none (a backup of the whole file).
+std::int64_t InsertJob(Connection& c, const std::string& kind, const std::optional<std::string>& map_id,
+                       const std::string& request_json, std::int64_t now_ns);
 std::optional<JobRecord> FindJob(Connection& c, std::int64_t id);
 // The oldest queued job.
 std::optional<std::int64_t> NextQueuedJob(Connection& c);
