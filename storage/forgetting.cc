@@ -135,6 +135,7 @@ void DeleteKeyframes(Connection& c, ForgetReport& r, std::int64_t cutoff, const 
       "SELECT k.id, k.pinned, k.relevance >= ?3, "
       "  EXISTS (SELECT 1 FROM event_evidence ev WHERE ev.keyframe_id = k.id) OR "
       "  EXISTS (SELECT 1 FROM segments s JOIN events e ON e.segment_id = s.id WHERE s.keyframe_id = k.id), "
+      "  (m.ended_ns IS NULL OR m.status = 'observing') AND COALESCE(m.last_frame_ns, m.started_ns) >= ?2, "
       "  m.ended_ns IS NULL OR m.status = 'observing' "
       "FROM keyframes k JOIN scene_models m ON m.id = k.scene_id "
       "WHERE k.map_id = ?1 AND k.stamp_ns < ?2 ORDER BY k.id";
@@ -146,7 +147,12 @@ void DeleteKeyframes(Connection& c, ForgetReport& r, std::int64_t cutoff, const 
     else if (select.Int(2)) ++r.keyframes_kept_relevant;
     else if (select.Int(3)) ++r.keyframes_kept_referenced;
     else if (select.Int(4)) ++r.keyframes_kept_open_scene;
-    else ids.push_back(select.Int(0));
+    else {
+      // An open scene without a frame for longer than the keyframe age counts as abandoned (a client that crashed
+      // and never came back): its keyframes age like any others.
+      r.keyframes_of_abandoned_scenes += select.Int(5);
+      ids.push_back(select.Int(0));
+    }
   }
   Stage stage(progress, "keyframes", 0.3, 0.85, ids.size());
   std::size_t done = 0;
@@ -285,6 +291,7 @@ Json ForgetReport::ToJson() const {
         {"events_deleted", events_deleted.size()},
         {"keyframes_deleted", keyframes_deleted.size()},
         {"segments_deleted", segments_deleted.size()},
+        {"keyframes_of_abandoned_open_scenes_deleted", keyframes_of_abandoned_scenes},
         {"features_deduplicated", 0}}},
       {"kept",
        {{"keyframes_pinned", keyframes_kept_pinned},

@@ -7,7 +7,8 @@
 // 2. events older than event_max_age_s go unless pinned, 'labelled', the latest event of their instance (it proves
 //    the current position) or of a pinned instance; their evidence rows cascade, instance history keeps the position;
 // 3. keyframes older than keyframe_max_age_s go unless pinned, relevance >= keep_relevance_at_least, evidence of a
-//    remaining event, the source of a segment a remaining event uses, or of a scene that was never closed; their
+//    remaining event, the source of a segment a remaining event uses, or of a scene still observing that had a
+//    frame within keyframe_max_age_s (one left open longer is abandoned: its keyframes age like others); their
 //    segments that no event uses go first;
 // 4. forgotten superseded models without any keyframe left are deleted (the R*Tree row goes by trigger).
 // Features are not stored yet: nothing is de-duplicated (the report says so).
@@ -62,8 +63,10 @@ struct ForgetReport {
   std::vector<std::int64_t> keyframes_deleted;
   std::vector<std::int64_t> segments_deleted;
   // Old keyframes / events that stayed, by the first reason that kept them.
+  // keyframes_kept_open_scene: of a scene still observing that had a frame within the keyframe age. Keyframes of a
+  // scene left observing for longer (abandoned: its client never came back) go like others; counted here:
   std::int64_t keyframes_kept_pinned = 0, keyframes_kept_relevant = 0, keyframes_kept_referenced = 0,
-               keyframes_kept_open_scene = 0;
+               keyframes_kept_open_scene = 0, keyframes_of_abandoned_scenes = 0;
   std::int64_t events_kept_pinned = 0, events_kept_labelled = 0, events_kept_latest = 0,
                events_kept_pinned_instance = 0;
   std::int64_t bytes_freed_estimate = 0;  // blob and text bytes of what went (not counting page overhead)

@@ -69,7 +69,8 @@ class ForgetFixture : public ::testing::Test {
   }
 
   std::int64_t Scene(const std::string& status, std::optional<std::int64_t> ended_ns,
-                     std::optional<std::int64_t> superseded_by, std::size_t state_bytes = 3000) {
+                     std::optional<std::int64_t> superseded_by, std::size_t state_bytes = 3000,
+                     std::optional<std::int64_t> last_frame_ns = std::nullopt) {
     return store_->Write([&](Connection& c) {
       SceneRecord r;
       r.map_id = "home";
@@ -84,6 +85,7 @@ class ForgetFixture : public ::testing::Test {
       r.labels = std::string(state_bytes / 2, 'l');
       r.frames = 10;
       r.state_version = 1;
+      r.last_frame_ns = last_frame_ns;
       UpdateSceneState(c, r, 0);
       UpdateSceneStatus(c, r.id, status, ended_ns, superseded_by);
       return r.id;

@@ -26,7 +26,8 @@ class forgetting : public ForgetFixture {
     scene_b = Scene("closed", kNow - 20 * kDay, std::nullopt);
     scene_a = Scene("superseded", kNow - 50 * kDay, scene_b);   // state dropped; row kept (its keyframe ka2 is evidence)
     scene_c = Scene("superseded", kNow - 50 * kDay, scene_b);   // no keyframes: state dropped and row deleted
-    scene_d = Scene("observing", std::nullopt, std::nullopt);  // never closed: keyframes stay
+    scene_d = Scene("observing", std::nullopt, std::nullopt, 3000, kNow - 1 * kDay);  // still observing: keyframes stay
+    scene_f = Scene("observing", std::nullopt, std::nullopt, 3000, kNow - 30 * kDay);  // left open: abandoned
     scene_e = Scene("superseded", kNow - 50 * kDay, std::nullopt);  // superseder unknown: kept whole
     ka1 = Keyframe(scene_a, old_kf);
     ka2 = Keyframe(scene_a, old_kf);
@@ -39,6 +40,7 @@ class forgetting : public ForgetFixture {
     kb_event_evidence = Keyframe(scene_b, old_kf);
     kb_latest_segment = Keyframe(scene_b, old_kf);
     kd = Keyframe(scene_d, old_kf);
+    kf = Keyframe(scene_f, old_kf);
     s_free = Segment(kb_segment);
     s_old_event = Segment(kb_event_segment);
     s_latest = Segment(kb_latest_segment);
@@ -58,9 +60,9 @@ class forgetting : public ForgetFixture {
     });
   }
 
-  std::int64_t scene_a, scene_b, scene_c, scene_d, scene_e;
+  std::int64_t scene_a, scene_b, scene_c, scene_d, scene_e, scene_f;
   std::int64_t ka1, ka2, kb_pinned, kb_relevant, kb_irrelevant, kb_recent, kb_segment, kb_event_segment,
-      kb_event_evidence, kb_latest_segment, kd;
+      kb_event_evidence, kb_latest_segment, kd, kf;
   std::int64_t s_free, s_old_event, s_latest, i1, i2;
   std::int64_t e_old, e_latest, e_pinned_instance, e_pinned, e_labelled, e_no_instance, e_recent,
       e_pinned_instance_newer;
@@ -74,14 +76,15 @@ TEST_F(forgetting, RemovesWhatNoReferenceNeedsAndKeepsTheRest) {
   EXPECT_EQ(r.models_state_dropped, (Ids{scene_a, scene_c}));
   EXPECT_EQ(r.models_deleted, (Ids{scene_c}));
   EXPECT_EQ(r.events_deleted, (Ids{e_old, e_no_instance}));
-  Ids keyframes = {ka1, kb_irrelevant, kb_segment, kb_event_segment, kb_event_evidence};
+  Ids keyframes = {ka1, kb_irrelevant, kb_segment, kb_event_segment, kb_event_evidence, kf};
   std::sort(keyframes.begin(), keyframes.end());
   EXPECT_EQ(r.keyframes_deleted, keyframes);
   EXPECT_EQ(r.segments_deleted, (Ids{s_free, s_old_event}));
   EXPECT_EQ(r.keyframes_kept_pinned, 1);
   EXPECT_EQ(r.keyframes_kept_relevant, 1);
   EXPECT_EQ(r.keyframes_kept_referenced, 2);  // ka2 (evidence of the latest event), kb_latest_segment
-  EXPECT_EQ(r.keyframes_kept_open_scene, 1);
+  EXPECT_EQ(r.keyframes_kept_open_scene, 1);      // kd: its scene had a frame yesterday
+  EXPECT_EQ(r.keyframes_of_abandoned_scenes, 1);  // kf: its scene has been open without a frame for 30 days
   EXPECT_EQ(r.events_kept_pinned, 1);
   EXPECT_EQ(r.events_kept_labelled, 1);
   EXPECT_EQ(r.events_kept_latest, 1);
@@ -178,7 +181,7 @@ TEST_F(forgetting, PolicyFieldsSwitchRulesOff) {
   keep_all.event_max_age_s.reset();
   const ForgetReport r2 = Run(keep_all, false);
   EXPECT_TRUE(r2.keyframes_deleted.empty());
-  EXPECT_EQ(r2.keyframes_kept_relevant, 9);  // every old keyframe of a closed scene but the pinned one
+  EXPECT_EQ(r2.keyframes_kept_relevant, 10);  // every old keyframe but the pinned one and the live open scene's
   // A longer keyframe age (15 days) leaves the 10-day-old ones.
   ForgetPolicy long_age;
   long_age.keyframe_max_age_s = 15 * 86400.0;
