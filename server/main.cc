@@ -51,10 +51,12 @@ std::map<std::string, std::string> Environment() {
   return env;
 }
 
-// The directory of online backups: the setting, or "backups" beside the database file.
+// The directory of online backups, absolute (job requests name the file a client will look for): the setting,
+// or "backups" beside the database file.
 std::string BackupDir(const Config& c) {
-  if (!c.backup_dir.empty()) return c.backup_dir;
-  return (std::filesystem::path(c.db).parent_path() / "backups").string();
+  const std::filesystem::path dir = c.backup_dir.empty() ? std::filesystem::path(c.db).parent_path() / "backups"
+                                                         : std::filesystem::path(c.backup_dir);
+  return std::filesystem::absolute(dir).lexically_normal().string();
 }
 
 storage::StoreOptions StoreOptionsOf(const Config& c) {

@@ -90,6 +90,7 @@ class BackupTest(unittest.TestCase):
         path = result["file"]
         self.assertTrue(os.path.isfile(path), path)
         self.assertEqual(os.path.dirname(path), os.path.join(self.server.tmpdir, "backups"))
+        self.assertEqual(job["request"]["file"], path)  # absolute already in the request
         self.assertTrue(os.path.basename(path).startswith("x-") and path.endswith("-nightly.sqlite"), path)
         self.assertEqual(os.path.getsize(path), result["bytes"])
         self.assertFalse(os.path.exists(path + ".partial"))
@@ -135,6 +136,18 @@ class BackupTest(unittest.TestCase):
                 c.request("POST", "/v1/backups", body)
             self.assertEqual((e.exception.status, e.exception.field), (status, field), e.exception.message)
         self.assertFalse(os.path.exists(os.path.join(self.server.tmpdir, "backups")))
+
+
+class RelativeDatabasePathTest(unittest.TestCase):
+    def test_backup_file_is_named_absolutely(self):
+        # scripts/run serves ./var/anchordb.sqlite: the job must still name its file so a client can find it.
+        server = harness.Server(self, db_path="relative.sqlite")  # the server's working directory is its tmpdir
+        c = server.client
+        job = c.request("POST", "/v1/backups", {})
+        self.assertTrue(os.path.isabs(job["request"]["file"]), job)
+        done = wait_job(c, job["job"])
+        self.assertEqual(done["result"]["file"], job["request"]["file"])
+        self.assertEqual(os.path.dirname(done["result"]["file"]), os.path.realpath(os.path.join(server.tmpdir, "backups")))
 
 
 class BackupRoleTest(unittest.TestCase):
