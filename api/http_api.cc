@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <random>
 #include <regex>
+#include <string_view>
 
 #include "schema/error.h"
 
@@ -94,7 +95,7 @@ bool IsSafeRequestId(const std::string& id) {
 }
 
 // Whether `s` is well-formed UTF-8 (RFC 3629: no overlong forms, no surrogates, nothing above U+10FFFF).
-bool IsUtf8(const std::string& s) {
+bool IsUtf8(std::string_view s) {
   const auto* p = reinterpret_cast<const unsigned char*>(s.data());
   const std::size_t n = s.size();
   for (std::size_t i = 0; i < n;) {
@@ -133,7 +134,7 @@ std::string LogSafe(const std::string& line) {
       out += static_cast<char>(c), ++i;
     } else {
       const std::size_t len = (c & 0xE0) == 0xC0 ? 2 : (c & 0xF0) == 0xE0 ? 3 : (c & 0xF8) == 0xF0 ? 4 : 0;
-      if (len > 0 && i + len <= line.size() && IsUtf8(line.substr(i, len))) {
+      if (len > 0 && i + len <= line.size() && IsUtf8(std::string_view(line).substr(i, len))) {
         out.append(line, i, len), i += len;
       } else {
         escape(c), ++i;

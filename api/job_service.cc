@@ -14,6 +14,9 @@ namespace {
 
 constexpr const char* kInterrupted = "interrupted by a server stop";
 
+// The stage a job of `kind` starts in.
+const char* FirstStage(const std::string& kind) { return kind == "backup" ? "copying" : "forgetting"; }
+
 std::int64_t NowNs() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
@@ -160,21 +163,21 @@ void JobService::RunJob(std::int64_t id) {
     const auto job = store_.Write([&](storage::Connection& c) {
       auto r = storage::FindJob(c, id);
       if (!r) throw Error(ErrorCode::kNotFound, "job vanished");
-      SetJobStatus(c, id, "running", r->kind == "backup" ? "copying" : "forgetting", 0.0, nullptr, nullptr);
+      SetJobStatus(c, id, "running", FirstStage(r->kind), 0.0, nullptr, nullptr);
       return *r;
     });
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      live_id_ = id;
+      live_stage_ = FirstStage(job.kind);
+      live_progress_ = 0.0;
+    }
     if (job.kind == "backup") {
       RunBackup(id, Json::parse(job.request_json).at("file").get<std::string>());
       return;
     }
     map = job.map_id.value_or("");
     request = storage::ParseForgetRequest(Json::parse(job.request_json));
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      live_id_ = id;
-      live_stage_ = "forgetting";
-      live_progress_ = 0.0;
-    }
     storage::ConnectionOptions options;
     options.busy_timeout_ms = settings_.busy_timeout_ms;
     options.synchronous = settings_.synchronous;
@@ -239,12 +242,6 @@ void JobService::RunJob(std::int64_t id) {
 }
 
 void JobService::RunBackup(std::int64_t id, const std::string& file) {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    live_id_ = id;
-    live_stage_ = "copying";
-    live_progress_ = 0.0;
-  }
   const storage::BackupReport report =
       storage::Backup(store_.path(), file, settings_.busy_timeout_ms, [&](double fraction) {
         if (interrupt_) throw Error(ErrorCode::kOverloaded, kInterrupted);

@@ -209,19 +209,28 @@ int Serve(const Config& config) {
   return ok ? 0 : 1;
 }
 
+// A subcommand's own option `name` at args[i], as "--name VALUE" (i moves past the value) or "--name=VALUE".
+bool TakeOption(const std::vector<std::string>& args, std::size_t& i, const std::string& name, std::string& value) {
+  const std::string& a = args[i];
+  if (a == name) {
+    if (i + 1 >= args.size()) throw std::invalid_argument(name + " needs a value");
+    value = args[++i];
+    return true;
+  }
+  if (a.rfind(name + "=", 0) == 0) {
+    value = a.substr(name.size() + 1);
+    return true;
+  }
+  return false;
+}
+
 // anchordb backup --db FILE [--out FILE | --label ID]: an online copy of the database (the server may be running
 // and writing); prints the report as JSON. Bad input: exit 2.
 int BackupCommand(const std::vector<std::string>& args) {
   std::string out, label;
   std::vector<std::string> rest;
   for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if ((a == "--out" || a == "--label") && i + 1 >= args.size()) throw std::invalid_argument(a + " needs a value");
-    if (a == "--out") out = args[++i];
-    else if (a.rfind("--out=", 0) == 0) out = a.substr(6);
-    else if (a == "--label") label = args[++i];
-    else if (a.rfind("--label=", 0) == 0) label = a.substr(8);
-    else rest.push_back(a);
+    if (!TakeOption(args, i, "--out", out) && !TakeOption(args, i, "--label", label)) rest.push_back(args[i]);
   }
   const Config config = LoadConfig(rest, Environment());
   if (!label.empty() && !json::IsValidId(label)) throw std::invalid_argument("--label: not a valid id: " + label);
@@ -244,15 +253,10 @@ int Forget(const std::vector<std::string>& args) {
   bool dry_run = false, vacuum = false;
   std::vector<std::string> rest;
   for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if ((a == "--map" || a == "--policy") && i + 1 >= args.size()) throw std::invalid_argument(a + " needs a value");
-    if (a == "--map") map = args[++i];
-    else if (a.rfind("--map=", 0) == 0) map = a.substr(6);
-    else if (a == "--policy") policy_text = args[++i];
-    else if (a.rfind("--policy=", 0) == 0) policy_text = a.substr(9);
-    else if (a == "--dry-run") dry_run = true;
-    else if (a == "--vacuum") vacuum = true;
-    else rest.push_back(a);
+    if (TakeOption(args, i, "--map", map) || TakeOption(args, i, "--policy", policy_text)) continue;
+    if (args[i] == "--dry-run") dry_run = true;
+    else if (args[i] == "--vacuum") vacuum = true;
+    else rest.push_back(args[i]);
   }
   if (map.empty()) throw std::invalid_argument("forget needs --map ID");
   const Config config = LoadConfig(rest, Environment());
