@@ -1,14 +1,16 @@
 // Routes of change events, instances, the where-is question and keyframe operations (SPEC §4.4, §5).
-#include "api/event_service.h"
+#include "api/event_routes.h"
+#include "services/events/event_service.h"
 #include "api/route_params.h"
 
 namespace anchordb::api {
 
+using namespace anchordb::services;
+
 using namespace params;
 
-void HttpApi::AddEventRoutes() {
-  EventService& e = events_;
-  Add("GET", "/v1/maps/{map}/events", Role::kReader,
+void RegisterEventRoutes(Router& router, EventService& e) {
+  router.Add("GET", "/v1/maps/{map}/events", Role::kReader,
       "Change events in time order (since=, until=, type=, instance=, scene=, after=, limit=)",
       [&e](const httplib::Request& req, const PathParams& p) {
         storage::EventFilter f;
@@ -21,14 +23,14 @@ void HttpApi::AddEventRoutes() {
         f.limit = static_cast<int>(QueryInteger(req, "limit", 100, 1, 1000));
         return JsonResponse(e.ListEvents(p["map"], f));
       });
-  Add("GET", "/v1/maps/{map}/events/{event}", Role::kReader, "One event with its evidence keyframes",
+  router.Add("GET", "/v1/maps/{map}/events/{event}", Role::kReader, "One event with its evidence keyframes",
       [&e](const httplib::Request&, const PathParams& p) { return JsonResponse(e.GetEvent(p["map"], PathId(p, "event", "event"))); });
-  Add("POST", "/v1/maps/{map}/events/{event}:label", Role::kWriter,
+  router.Add("POST", "/v1/maps/{map}/events/{event}:label", Role::kWriter,
       "Label the object an event concerns, from dialog ({\"label\"}; source dialog|operator)",
       [&e](const httplib::Request& req, const PathParams& p) {
         return JsonResponse(e.LabelEvent(p["map"], PathId(p, "event", "event"), json::ParseObject(req.body)));
       });
-  Add("GET", "/v1/maps/{map}/instances", Role::kReader, "Instances (label=, kind=, status=, after=, limit=)",
+  router.Add("GET", "/v1/maps/{map}/instances", Role::kReader, "Instances (label=, kind=, status=, after=, limit=)",
       [&e](const httplib::Request& req, const PathParams& p) {
         storage::InstanceFilter f;
         f.kind = QueryChoice(req, "kind", {"object", "furniture"});
@@ -37,42 +39,42 @@ void HttpApi::AddEventRoutes() {
         f.limit = static_cast<int>(QueryInteger(req, "limit", 100, 1, 1000));
         return JsonResponse(e.ListInstances(p["map"], QueryString(req, "label", 256), f));
       });
-  Add("POST", "/v1/maps/{map}/instances", Role::kWriter,
+  router.Add("POST", "/v1/maps/{map}/instances", Role::kWriter,
       "Enter an instance by hand (furniture for where-is sentences): {kind, label, position, extent, yaw_rad}",
       [&e](const httplib::Request& req, const PathParams& p) { return JsonResponse(e.CreateInstance(p["map"], json::ParseObject(req.body)), 201); });
-  Add("GET", "/v1/maps/{map}/instances/{instance}", Role::kReader, "One instance",
+  router.Add("GET", "/v1/maps/{map}/instances/{instance}", Role::kReader, "One instance",
       [&e](const httplib::Request&, const PathParams& p) { return JsonResponse(e.GetInstance(p["map"], PathId(p, "instance", "instance"))); });
-  Add("GET", "/v1/maps/{map}/instances/{instance}/history", Role::kReader, "Every position an instance was known at",
+  router.Add("GET", "/v1/maps/{map}/instances/{instance}/history", Role::kReader, "Every position an instance was known at",
       [&e](const httplib::Request&, const PathParams& p) { return JsonResponse(e.History(p["map"], PathId(p, "instance", "instance"))); });
-  Add("POST", "/v1/maps/{map}/instances/{instance}:label", Role::kWriter,
+  router.Add("POST", "/v1/maps/{map}/instances/{instance}:label", Role::kWriter,
       "Label an instance ({\"label\", \"source\": dialog|operator}; an operator's label is never changed automatically)",
       [&e](const httplib::Request& req, const PathParams& p) {
         return JsonResponse(e.LabelInstance(p["map"], PathId(p, "instance", "instance"), json::ParseObject(req.body)));
       });
-  Add("POST", "/v1/maps/{map}/instances/{instance}:pin", Role::kWriter, "Pin an instance: forgetting keeps its history",
+  router.Add("POST", "/v1/maps/{map}/instances/{instance}:pin", Role::kWriter, "Pin an instance: forgetting keeps its history",
       [&e](const httplib::Request&, const PathParams& p) { return JsonResponse(e.PinInstance(p["map"], PathId(p, "instance", "instance"), true)); });
-  Add("POST", "/v1/maps/{map}/instances/{instance}:unpin", Role::kWriter, "Unpin an instance",
+  router.Add("POST", "/v1/maps/{map}/instances/{instance}:unpin", Role::kWriter, "Unpin an instance",
       [&e](const httplib::Request&, const PathParams& p) { return JsonResponse(e.PinInstance(p["map"], PathId(p, "instance", "instance"), false)); });
-  Add("DELETE", "/v1/maps/{map}/instances/{instance}", Role::kAdmin,
+  router.Add("DELETE", "/v1/maps/{map}/instances/{instance}", Role::kAdmin,
       "Delete an instance (kept as a tombstone so its events stay consistent; never revived)",
       [&e](const httplib::Request&, const PathParams& p) { return JsonResponse(e.DeleteInstance(p["map"], PathId(p, "instance", "instance"))); });
-  Add("GET", "/v1/maps/{map}/where", Role::kReader,
+  router.Add("GET", "/v1/maps/{map}/where", Role::kReader,
       "Where is the thing labelled label= (at= a past time): position, time, evidence, confidence, sentence",
       [&e](const httplib::Request& req, const PathParams& p) {
         const auto label = QueryString(req, "label", 256);
         if (!label) throw Error(ErrorCode::kInvalidArgument, "label is required", "label");
         return JsonResponse(e.Where(p["map"], *label, QueryTime(req, "at")));
       });
-  Add("POST", "/v1/maps/{map}/keyframes/{keyframe}:pin", Role::kWriter, "Pin a keyframe: forgetting keeps it",
+  router.Add("POST", "/v1/maps/{map}/keyframes/{keyframe}:pin", Role::kWriter, "Pin a keyframe: forgetting keeps it",
       [&e](const httplib::Request&, const PathParams& p) { return JsonResponse(e.PinKeyframe(p["map"], PathId(p, "keyframe", "keyframe"), true)); });
-  Add("POST", "/v1/maps/{map}/keyframes/{keyframe}:unpin", Role::kWriter, "Unpin a keyframe",
+  router.Add("POST", "/v1/maps/{map}/keyframes/{keyframe}:unpin", Role::kWriter, "Unpin a keyframe",
       [&e](const httplib::Request&, const PathParams& p) { return JsonResponse(e.PinKeyframe(p["map"], PathId(p, "keyframe", "keyframe"), false)); });
-  Add("POST", "/v1/maps/{map}/keyframes/{keyframe}:score", Role::kWriter,
+  router.Add("POST", "/v1/maps/{map}/keyframes/{keyframe}:score", Role::kWriter,
       "Set a keyframe's relevance in [0, 1] (a high-level component's judgement; forgetting keeps relevant ones)",
       [&e](const httplib::Request& req, const PathParams& p) {
         return JsonResponse(e.SetKeyframeRelevance(p["map"], PathId(p, "keyframe", "keyframe"), json::ParseObject(req.body)));
       });
-  Add("POST", "/v1/maps/{map}/keyframes/{keyframe}:reanalyse", Role::kWriter,
+  router.Add("POST", "/v1/maps/{map}/keyframes/{keyframe}:reanalyse", Role::kWriter,
       "Apply a newer scene model's background ({\"scene\"}, default the newest of the place) to an old keyframe",
       [&e](const httplib::Request& req, const PathParams& p) {
         return JsonResponse(e.Reanalyse(p["map"], PathId(p, "keyframe", "keyframe"), BodyObject(req)));

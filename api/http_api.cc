@@ -63,18 +63,28 @@ const std::string& PathParams::operator[](const std::string& name) const {
   throw Error(ErrorCode::kInternal, "route has no path parameter '" + name + "'");
 }
 
-HttpApi::HttpApi(GridService& grid, SceneService& scenes, FurnitureService& furniture, EventService& events,
-                 JobService& jobs, HttpOptions options)
-    : service_(grid), scenes_(scenes), furniture_(furniture), events_(events), jobs_(jobs), options_(std::move(options)) {
-  AddRoutes();
-  AddSceneRoutes();
-  AddFurnitureRoutes();
-  AddEventRoutes();
-  AddJobRoutes();
+void Router::Add(std::string method, std::string pattern, Role role, std::string summary, Handler handler) {
+  const bool write = method != "GET";
+  routes_.push_back({std::move(method), std::move(pattern), role, std::move(summary), std::move(handler), write});
 }
 
-void HttpApi::Add(std::string method, std::string pattern, Role role, std::string summary, Handler handler) {
-  routes_.push_back({std::move(method), std::move(pattern), role, std::move(summary), std::move(handler)});
+HttpApi::HttpApi(HttpOptions options) : options_(std::move(options)) { AddSystemRoutes(); }
+
+void HttpApi::AddSystemRoutes() {
+  router_.Add("GET", "/v1/health", Role::kPublic, "Liveness", [](const auto&, const auto&) {
+    return Response{200, "application/json", Json{{"status", "ok"}}.dump(), {}};
+  });
+  router_.Add("GET", "/metrics", Role::kReader, "Prometheus text: request counts and latency per route",
+              [this](const auto&, const auto&) {
+                return Response{200, "text/plain; version=0.0.4", metrics_.Prometheus(), {}};
+              });
+  router_.Add("GET", "/v1/openapi.json", Role::kPublic, "This API's OpenAPI 3 description", [](const auto&, const auto&) {
+    return Response{200, "application/json", OpenApiDocument(), {}};
+  });
+  router_.Add("GET", "/v1/settings", Role::kReader, "Every server setting with its description and value",
+              [this](const auto&, const auto&) {
+                return Response{200, "application/json", (options_.settings ? options_.settings() : Json::object()).dump(), {}};
+              });
 }
 
 namespace {
@@ -146,6 +156,7 @@ std::string LogSafe(const std::string& line) {
 
 void SetError(httplib::Response& res, ErrorCode code, const std::string& message, const std::string& field) {
   res.status = HttpStatusFor(code);
+  if (code == ErrorCode::kOverloaded) res.set_header("Retry-After", "1");  // every 503 says when to come back
   res.set_content(ErrorBody(code, message, field), "application/json");
 }
 
@@ -159,7 +170,21 @@ void HttpApi::Dispatch(const Route& route, const std::vector<std::string>& names
   res.set_header("X-Request-Id", request_id);
   const std::string route_key = route.method + " " + route.pattern;
   std::string log_detail;
+  // Admission control for every write path: a write beyond the limit is refused at once instead of queueing for the
+  // writer (the client retries after Retry-After); counted in /metrics as anchordb_writes_refused_total.
+  struct WriteSlot {
+    std::atomic<int>* counter = nullptr;
+    ~WriteSlot() { if (counter) --*counter; }
+  } slot;
   try {
+    if (route.write) {
+      slot.counter = &writes_in_flight_;
+      if (++writes_in_flight_ > options_.max_pending_writes) {
+        metrics_.RecordRefusedWrite();
+        throw Error(ErrorCode::kOverloaded, "too many writes in flight (" + std::to_string(options_.max_pending_writes) +
+                                                "); retry after 1 s");
+      }
+    }
     // cpp-httplib checks its payload limit against Content-Length only; a chunked body is checked here.
     if (req.body.size() > options_.max_body_bytes) {
       throw Error(ErrorCode::kPayloadTooLarge, "request body exceeds " + std::to_string(options_.max_body_bytes) + " bytes");
@@ -214,7 +239,7 @@ void HttpApi::Dispatch(const Route& route, const std::vector<std::string>& names
 
 void HttpApi::Mount(httplib::Server& server) {
   static const std::regex kParam(R"(\{([a-z_]+)\})");
-  for (const Route& route : routes_) {
+  for (const Route& route : router_.routes()) {
     std::vector<std::string> names;
     for (auto it = std::sregex_iterator(route.pattern.begin(), route.pattern.end(), kParam); it != std::sregex_iterator(); ++it) {
       names.push_back((*it)[1].str());

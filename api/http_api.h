@@ -1,18 +1,13 @@
 #pragma once
-// The HTTP surface: a table of routes (method, pattern, role, summary, handler), mounted on a cpp-httplib
+// The HTTP surface: the route table (api/router.h) every capability registers into, mounted on a cpp-httplib
 // server with the conventions of SPEC §5 applied to every route in one place: JSON errors, auth by Bearer token
 // and role, request ids in the log and in X-Request-Id, metrics per route, one catch-all per request.
-// Eigen must come before httplib.h: httplib pulls in <resolv.h>, whose `_res` macro breaks Eigen's headers.
-#include "api/event_service.h"
-#include "api/furniture_service.h"
-#include "api/grid_service.h"
-#include "api/job_service.h"
 #include "api/metrics.h"
-#include "api/scene_service.h"
+#include "api/router.h"
 #include "schema/error.h"
+#include "schema/json_io.h"
 
-#include <httplib.h>
-
+#include <atomic>
 #include <functional>
 #include <map>
 #include <optional>
@@ -21,37 +16,7 @@
 
 namespace anchordb::api {
 
-enum class Role { kPublic = 0, kReader = 1, kWriter = 2, kAdmin = 3 };
-std::optional<Role> RoleFromName(std::string_view name);
-const char* RoleName(Role role);
-
-struct Response {
-  int status = 200;
-  std::string content_type = "application/json";
-  std::string body;
-  std::map<std::string, std::string> headers;
-};
-
-// Values of the {name} segments of a route pattern.
-class PathParams {
- public:
-  PathParams(std::vector<std::string> names, std::vector<std::string> values);
-  const std::string& operator[](const std::string& name) const;
-
- private:
-  std::vector<std::string> names_;
-  std::vector<std::string> values_;
-};
-
-using Handler = std::function<Response(const httplib::Request&, const PathParams&)>;
-
-struct Route {
-  std::string method;   // GET, POST, PUT, DELETE
-  std::string pattern;  // "/v1/maps/{map}/layers/{layer}"
-  Role role = Role::kReader;
-  std::string summary;
-  Handler handler;
-};
+using json::Json;
 
 struct HttpOptions {
   bool auth_required = false;
@@ -62,14 +27,17 @@ struct HttpOptions {
   // The settings document served by GET /v1/settings.
   std::function<Json()> settings;
   std::size_t max_body_bytes = 64u << 20;
+  // Write requests (every method but GET) handled at once; one more is refused at once with 503 + Retry-After.
+  int max_pending_writes = 64;
 };
 
 class HttpApi {
  public:
-  HttpApi(GridService& grid, SceneService& scenes, FurnitureService& furniture, EventService& events, JobService& jobs,
-          HttpOptions options);
+  // Registers the system routes (health, metrics, openapi, settings); capabilities register theirs into router().
+  explicit HttpApi(HttpOptions options);
 
-  const std::vector<Route>& routes() const { return routes_; }
+  Router& router() { return router_; }
+  const std::vector<Route>& routes() const { return router_.routes(); }
   Metrics& metrics() { return metrics_; }
   // Registers every route and the error handler on `server`.
   void Mount(httplib::Server& server);
@@ -78,23 +46,14 @@ class HttpApi {
   static const std::string& OpenApiDocument();
 
  private:
-  void AddRoutes();
-  void AddSceneRoutes();
-  void AddFurnitureRoutes();
-  void AddEventRoutes();
-  void AddJobRoutes();  // api/job_routes.cc
-  void Add(std::string method, std::string pattern, Role role, std::string summary, Handler handler);
+  void AddSystemRoutes();
   void Dispatch(const Route& route, const std::vector<std::string>& names, const httplib::Request& req,
                 httplib::Response& res);
 
-  GridService& service_;
-  SceneService& scenes_;
-  FurnitureService& furniture_;
-  EventService& events_;
-  JobService& jobs_;
   HttpOptions options_;
   Metrics metrics_;
-  std::vector<Route> routes_;
+  Router router_;
+  std::atomic<int> writes_in_flight_{0};
 };
 
 // JSON error body {"error":{"code","message","field"}} and its status.

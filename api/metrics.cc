@@ -25,6 +25,11 @@ void Metrics::Record(const std::string& route, int status, double seconds) {
   h.sum_seconds += seconds;
 }
 
+void Metrics::RecordRefusedWrite() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++writes_refused_;
+}
+
 std::string Metrics::Prometheus() const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::ostringstream out;
@@ -45,6 +50,9 @@ std::string Metrics::Prometheus() const {
         << "anchordb_http_request_duration_seconds_sum{route=\"" << r << "\"} " << h.sum_seconds << "\n"
         << "anchordb_http_request_duration_seconds_count{route=\"" << r << "\"} " << h.count << "\n";
   }
+  out << "# HELP anchordb_writes_refused_total Write requests refused by admission control (503 + Retry-After).\n"
+      << "# TYPE anchordb_writes_refused_total counter\n"
+      << "anchordb_writes_refused_total " << writes_refused_ << "\n";
   return out.str();
 }
 

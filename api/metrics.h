@@ -11,6 +11,8 @@ class Metrics {
  public:
   // `route` is the route's pattern ("GET /v1/maps/{map}"), so ids never explode the label set.
   void Record(const std::string& route, int status, double seconds);
+  // A write refused by admission control (503 + Retry-After).
+  void RecordRefusedWrite();
   std::string Prometheus() const;
 
  private:
@@ -24,6 +26,7 @@ class Metrics {
   mutable std::mutex mutex_;
   std::map<std::pair<std::string, int>, std::uint64_t> requests_;  // (route, status) -> count
   std::map<std::string, Histogram> latency_;
+  std::uint64_t writes_refused_ = 0;
 };
 
 }  // namespace anchordb::api

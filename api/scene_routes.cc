@@ -1,10 +1,13 @@
 // Routes of scene models and keyframes: parse, call SceneService, serialise.
+#include "api/scene_routes.h"
 #include <cmath>
 
 #include "api/http_api.h"
 #include "schema/error.h"
 
 namespace anchordb::api {
+
+using namespace anchordb::services;
 namespace {
 
 Response JsonResponse(const Json& j, int status = 200) { return {status, "application/json", j.dump(), {}}; }
@@ -48,12 +51,11 @@ bool IsRawType(const std::string& content_type) { return content_type.rfind("app
 
 }  // namespace
 
-void HttpApi::AddSceneRoutes() {
-  SceneService& s = scenes_;
-  Add("POST", "/v1/maps/{map}/scenes", Role::kWriter,
+void RegisterSceneRoutes(Router& router, SceneService& s) {
+  router.Add("POST", "/v1/maps/{map}/scenes", Role::kWriter,
       "Open a scene model at a camera pose (camera intrinsics, pose, params beta/dynamic_mode/depth_scale)",
       [&s](const httplib::Request& req, const PathParams& p) { return JsonResponse(s.Open(p["map"], json::ParseObject(req.body)), 201); });
-  Add("GET", "/v1/maps/{map}/scenes", Role::kReader, "Scene models of a map, newest first (near=x,y,z&radius=, status=, limit=)",
+  router.Add("GET", "/v1/maps/{map}/scenes", Role::kReader, "Scene models of a map, newest first (near=x,y,z&radius=, status=, limit=)",
       [&s](const httplib::Request& req, const PathParams& p) {
         storage::SceneFilter f;
         if (req.has_param("near")) {
@@ -79,9 +81,9 @@ void HttpApi::AddSceneRoutes() {
         f.limit = static_cast<int>(limit);
         return JsonResponse(s.List(p["map"], f));
       });
-  Add("GET", "/v1/maps/{map}/scenes/{scene}", Role::kReader, "A scene model: camera, pose, status, frames, keyframes",
+  router.Add("GET", "/v1/maps/{map}/scenes/{scene}", Role::kReader, "A scene model: camera, pose, status, frames, keyframes",
       [&s](const httplib::Request&, const PathParams& p) { return JsonResponse(s.Get(p["map"], IdParam(p, "scene"))); });
-  Add("POST", "/v1/maps/{map}/scenes/{scene}/frames", Role::kWriter,
+  router.Add("POST", "/v1/maps/{map}/scenes/{scene}/frames", Role::kWriter,
       "One depth frame: image/png (16-bit), application/octet-stream (raw uint16 LE), or multipart parts depth + dynamic",
       [&s](const httplib::Request& req, const PathParams& p) {
         FrameInput in;
@@ -103,25 +105,25 @@ void HttpApi::AddSceneRoutes() {
         }
         return JsonResponse(s.AddFrame(p["map"], IdParam(p, "scene"), in));
       });
-  Add("GET", "/v1/maps/{map}/scenes/{scene}/layers/{layer}", Role::kReader,
+  router.Add("GET", "/v1/maps/{map}/scenes/{scene}/layers/{layer}", Role::kReader,
       "A scene layer (static, movable, dynamic, reliability) as png, raw or json; clean=true cleans the movable layer",
       [&s](const httplib::Request& req, const PathParams& p) {
         const std::string format = req.has_param("format") ? req.get_param_value("format") : "png";
         ExportedLayer e = s.Layer(p["map"], IdParam(p, "scene"), p["layer"], format, QueryBool(req, "clean"));
         return Response{200, e.content_type, std::move(e.body), e.headers};
       });
-  Add("POST", "/v1/maps/{map}/scenes/{scene}/keyframes", Role::kWriter, "Store a keyframe of the scene now",
+  router.Add("POST", "/v1/maps/{map}/scenes/{scene}/keyframes", Role::kWriter, "Store a keyframe of the scene now",
       [&s](const httplib::Request&, const PathParams& p) { return JsonResponse(s.Keyframe(p["map"], IdParam(p, "scene")), 201); });
-  Add("POST", "/v1/maps/{map}/scenes/{scene}:close", Role::kWriter, "End the observation: end keyframe, state persisted",
+  router.Add("POST", "/v1/maps/{map}/scenes/{scene}:close", Role::kWriter, "End the observation: end keyframe, state persisted",
       [&s](const httplib::Request&, const PathParams& p) { return JsonResponse(s.Close(p["map"], IdParam(p, "scene"))); });
-  Add("GET", "/v1/maps/{map}/keyframes/{keyframe}", Role::kReader, "A keyframe's metadata",
+  router.Add("GET", "/v1/maps/{map}/keyframes/{keyframe}", Role::kReader, "A keyframe's metadata",
       [&s](const httplib::Request&, const PathParams& p) { return JsonResponse(s.GetKeyframe(p["map"], IdParam(p, "keyframe"))); });
-  Add("GET", "/v1/maps/{map}/keyframes/{keyframe}/depth", Role::kReader, "A keyframe's raw depth as 16-bit PNG [mm]",
+  router.Add("GET", "/v1/maps/{map}/keyframes/{keyframe}/depth", Role::kReader, "A keyframe's raw depth as 16-bit PNG [mm]",
       [&s](const httplib::Request&, const PathParams& p) {
         ExportedLayer e = s.KeyframeImage(p["map"], IdParam(p, "keyframe"), "depth");
         return Response{200, e.content_type, std::move(e.body), e.headers};
       });
-  Add("GET", "/v1/maps/{map}/keyframes/{keyframe}/background", Role::kReader,
+  router.Add("GET", "/v1/maps/{map}/keyframes/{keyframe}/background", Role::kReader,
       "A keyframe's static background as 16-bit PNG [mm]", [&s](const httplib::Request&, const PathParams& p) {
         ExportedLayer e = s.KeyframeImage(p["map"], IdParam(p, "keyframe"), "background");
         return Response{200, e.content_type, std::move(e.body), e.headers};

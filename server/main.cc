@@ -11,9 +11,12 @@
 #include <mutex>
 #include <thread>
 
-#include "api/grid_service.h"
+#include "api/event_routes.h"
+#include "api/furniture_routes.h"
+#include "api/grid_routes.h"
 #include "api/http_api.h"
-#include "api/job_service.h"
+#include "api/job_routes.h"
+#include "api/scene_routes.h"
 #include "schema/error.h"
 #include "server/auth.h"
 #include "server/config.h"
@@ -99,13 +102,12 @@ int Serve(const Config& config) {
     }
   }
 
-  api::ServiceLimits limits;
+  services::ServiceLimits limits;
   limits.max_map_pixels = static_cast<std::size_t>(config.max_map_pixels);
   limits.max_polygons = static_cast<std::size_t>(config.max_polygons);
   limits.max_polygon_vertices = static_cast<std::size_t>(config.max_polygon_vertices);
   limits.max_list_limit = config.max_list_limit;
-  limits.max_pending_writes = config.max_pending_writes;
-  api::GridDefaults defaults;
+  services::GridDefaults defaults;
   defaults.occupancy = {config.occupied_min, config.free_max};
   defaults.attention = {config.attention_near_m, config.attention_max_facing_rad};
   auto& v = defaults.viewpoints;
@@ -120,12 +122,12 @@ int Serve(const Config& config) {
   v.weight_position = config.viewpoint_weight_position;
   v.weight_travel = config.viewpoint_weight_travel;
   v.seed = static_cast<std::uint64_t>(config.viewpoint_seed);
-  api::GridService service(store, limits, defaults);
-  api::SceneLimits scene_limits;
+  services::GridService service(store, limits, defaults);
+  services::SceneLimits scene_limits;
   scene_limits.persist_every_frames = config.scene_persist_every_frames;
   scene_limits.max_image_side = config.scene_max_image_side;
   scene_limits.settle_frames = config.scene_settle_frames;
-  api::MergeSettings merge;
+  services::MergeSettings merge;
   merge.max_candidates = config.merge_max_candidates;
   merge.max_age_s = config.merge_max_age_s;
   merge.candidate_radius_m = config.merge_candidate_radius_m;
@@ -133,8 +135,8 @@ int Serve(const Config& config) {
   merge.frustum_far_m = config.merge_frustum_far_m;
   merge.supersede_distance_m = config.supersede_distance_m;
   merge.supersede_angle_rad = config.supersede_angle_rad;
-  api::SceneService scenes(store, scene_limits, merge);
-  api::FurnitureSettings furniture_settings;
+  services::SceneService scenes(store, scene_limits, merge);
+  services::FurnitureSettings furniture_settings;
   furniture_settings.n_best = config.grounding_n_best;
   furniture_settings.sigma = config.grounding_sigma;
   furniture_settings.edge_max_gap_m = config.grounding_edge_max_gap_m;
@@ -148,12 +150,12 @@ int Serve(const Config& config) {
     }
     furniture_settings.knowledge_json.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
-  api::FurnitureService furniture(store, furniture_settings);
-  api::EventSettings event_settings;
+  services::FurnitureService furniture(store, furniture_settings);
+  services::EventSettings event_settings;
   event_settings.change.segments.cluster_tolerance_m = config.segment_cluster_tolerance_m;
   event_settings.change.segments.min_points = config.segment_min_points;
   event_settings.change.segments.min_extent_m = config.segment_min_extent_m;
-  api::EventService events(store, &furniture, event_settings);
+  services::EventService events(store, &furniture, event_settings);
   scenes.SetKeyframeListener(&events);
 
   api::HttpOptions options;
@@ -166,14 +168,20 @@ int Serve(const Config& config) {
   if (config.log_requests) options.log = Log;
   options.settings = [config] { return SettingsJson(config); };
   options.max_body_bytes = static_cast<std::size_t>(config.max_body_bytes);
-  api::JobSettings job_settings;
+  options.max_pending_writes = config.max_pending_writes;
+  services::JobSettings job_settings;
   job_settings.synchronous = config.synchronous;
   job_settings.backup_dir = BackupDir(config);
-  api::JobService jobs(store, job_settings);
+  services::JobService jobs(store, job_settings);
   if (jobs.interrupted_at_start() > 0) {
     Log("jobs interrupted by the previous stop, marked failed: " + std::to_string(jobs.interrupted_at_start()));
   }
-  api::HttpApi http(service, scenes, furniture, events, jobs, options);
+  api::HttpApi http(options);
+  api::RegisterGridRoutes(http.router(), service);
+  api::RegisterSceneRoutes(http.router(), scenes);
+  api::RegisterFurnitureRoutes(http.router(), furniture);
+  api::RegisterEventRoutes(http.router(), events);
+  api::RegisterJobRoutes(http.router(), jobs);
 
   httplib::Server server;
   const int threads = config.threads;

@@ -9,7 +9,8 @@
 #include <sstream>
 #include <unordered_map>
 
-#include "api/scene_service.h"
+#include "services/grid/grid_service.h"
+#include "services/scene/scene_service.h"
 #include "engine/scene/depth_image.h"
 #include "engine/scene/projection.h"
 #include "tests/support/temp_dir.h"
@@ -104,11 +105,11 @@ class RealRoom {
   std::int64_t Observe(const RealView& v) {
     const auto& p = v.pose.position_m;
     const auto& q = v.pose.orientation;
-    const api::Json body = {{"camera", {{"width", 640}, {"height", 480}, {"fx", kK.fx}, {"fy", kK.fy}, {"cx", kK.cx}, {"cy", kK.cy}}},
+    const services::Json body = {{"camera", {{"width", 640}, {"height", 480}, {"fx", kK.fx}, {"fy", kK.fy}, {"cx", kK.cx}, {"cy", kK.cy}}},
                             {"pose", {{"position", {p.x(), p.y(), p.z()}}, {"orientation", {q.x(), q.y(), q.z(), q.w()}}}}};
     const std::int64_t id = scenes.Open("room", body)["id"].get<std::int64_t>();
     for (int frame = 0; frame < 3; ++frame) {
-      api::FrameInput in;
+      services::FrameInput in;
       in.body = v.raw_depth;
       in.png = false;
       scenes.AddFrame("room", id, in);
@@ -125,15 +126,15 @@ class RealRoom {
   }
   testing::TempDir dir_;
   storage::Store store_;
-  api::GridService grid_;
+  services::GridService grid_;
 
  public:
-  api::SceneService scenes;
+  services::SceneService scenes;
 };
 
 TEST(SlambookRealData, StaticLayersOfViews4And5AgreeInTheMapFrame) {
   RealRoom room("real.sqlite");
-  api::SceneService& scenes = room.scenes;
+  services::SceneService& scenes = room.scenes;
   const PinholeIntrinsics K = RealRoom::kK;
   std::vector<std::int64_t> ids;
   std::vector<Eigen::Isometry3d> X_MapCamera;
@@ -169,16 +170,16 @@ TEST(SlambookRealData, StaticLayersOfViews4And5AgreeInTheMapFrame) {
 // movable structure: after cleaning, under 2 % of the pixels are movable in every merged model.
 TEST(SlambookRealData, MergedRealViewsHaveFewMovablePixels) {
   RealRoom room("merge.sqlite");
-  api::SceneService& scenes = room.scenes;
+  services::SceneService& scenes = room.scenes;
   int merged_models = 0;
   int view = 0;
   for (const RealView& v : ReadViews()) {
     ++view;
     const std::int64_t id = room.Observe(v);
-    const api::Json scene = scenes.Get("room", id);
-    const api::Json movable = api::Json::parse(scenes.Layer("room", id, "movable", "json", true).body);
+    const services::Json scene = scenes.Get("room", id);
+    const services::Json movable = services::Json::parse(scenes.Layer("room", id, "movable", "json", true).body);
     const double fraction = movable["fraction"].get<double>();
-    const auto used = scene["merge"].value("models_used", api::Json::array()).size();
+    const auto used = scene["merge"].value("models_used", services::Json::array()).size();
     merged_models += static_cast<int>(used);
     std::printf("view %d: merged %zu earlier model(s), cleaned movable fraction %.4f\n", view, used, fraction);
     // Issue 4's bar. Measured: 0.00, 0.00, 0.55, 1.14 and 1.81 % for views 1-5 (view 5 merges four earlier models).

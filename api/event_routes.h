@@ -1,0 +1,10 @@
+#pragma once
+// The routes of one capability (EventService): thin handlers that parse, call the service, serialise.
+#include "api/router.h"
+#include "services/events/event_service.h"
+
+namespace anchordb::api {
+
+void RegisterEventRoutes(Router& router, services::EventService& service);
+
+}  // namespace anchordb::api

@@ -1,0 +1,104 @@
+// The stored form of a furniture graph's live n-best hypotheses (a versioned f64 blob).
+#include <cmath>
+#include <cstring>
+
+#include "services/furniture/furniture_service.h"
+#include "schema/error.h"
+#include "storage/blob_codec.h"
+
+namespace anchordb::services {
+
+namespace g = engine::grounding;
+
+// ---- the hypotheses codec: f64 array
+//   header: magic 4.5e6 + version (1), step, next_id, count, vertices, categories, directed edges
+//   per hypothesis: id, parent_id, has_scheme, scheme, score, t; t x (directed, interpretation, relation, scheme,
+//   score); t lineage ids; t lineage ranks; p(f) V x K; p(o) V x 4; p(r) D x 4
+namespace {
+constexpr double kCodecMagic = 4'500'001.0;
+}
+
+std::string EncodeHypotheses(const g::FurnitureGraph& graph, const g::HypothesisSet& set) {
+  std::vector<double> v = {kCodecMagic, static_cast<double>(set.step), static_cast<double>(set.next_id),
+                           static_cast<double>(set.ranked.size()), static_cast<double>(graph.vertices.size()),
+                           static_cast<double>(graph.category_count), static_cast<double>(graph.DirectedEdgeCount())};
+  for (const g::Hypothesis& h : set.ranked) {
+    v.insert(v.end(), {static_cast<double>(h.id), static_cast<double>(h.parent_id), h.scheme ? 1.0 : 0.0,
+                       h.scheme ? static_cast<double>(*h.scheme) : 0.0, h.score, static_cast<double>(h.matches.size())});
+    for (const g::Match& m : h.matches) {
+      v.insert(v.end(), {static_cast<double>(m.directed_edge), static_cast<double>(m.interpretation), static_cast<double>(m.relative),
+                         static_cast<double>(m.scheme), m.score});
+    }
+    for (std::int64_t id : h.lineage) v.push_back(static_cast<double>(id));
+    for (int r : h.lineage_ranks) v.push_back(static_cast<double>(r));
+    v.insert(v.end(), h.state.category.begin(), h.state.category.end());
+    v.insert(v.end(), h.state.orientation.begin(), h.state.orientation.end());
+    v.insert(v.end(), h.state.relation.begin(), h.state.relation.end());
+  }
+  return storage::EncodeBlob(storage::BlobElement::kF64, {static_cast<std::uint32_t>(v.size())}, storage::AsBytes(v));
+}
+
+g::HypothesisSet DecodeHypotheses(const g::FurnitureGraph& graph, const std::string& blob) {
+  const storage::DecodedBlob d = storage::DecodeBlob(blob);
+  const auto corrupt = [](const std::string& what) {
+    return Error(ErrorCode::kInternal, "stored furniture-graph hypotheses are corrupt: " + what);
+  };
+  if (d.element != storage::BlobElement::kF64 || d.bytes.size() % sizeof(double) != 0) throw corrupt("not an f64 array");
+  std::vector<double> v(d.bytes.size() / sizeof(double));
+  std::memcpy(v.data(), d.bytes.data(), d.bytes.size());
+  std::size_t at = 0;
+  const auto next = [&]() {
+    if (at >= v.size()) throw corrupt("truncated");
+    return v[at++];
+  };
+  const auto next_int = [&](double lo, double hi) {
+    const double x = next();
+    if (!(x >= lo && x <= hi) || x != std::floor(x)) throw corrupt("a count or index is out of range");
+    return static_cast<std::int64_t>(x);
+  };
+  if (next() != kCodecMagic) throw corrupt("unknown format");
+  g::HypothesisSet set;
+  set.step = static_cast<int>(next_int(0, 1e9));
+  set.next_id = next_int(0, 9e15);
+  const std::int64_t count = next_int(1, 1e7);
+  const std::size_t vertices = graph.vertices.size(), k = static_cast<std::size_t>(graph.category_count);
+  const int directed = graph.DirectedEdgeCount();
+  if (next_int(0, 1e9) != static_cast<std::int64_t>(vertices) || next_int(0, 1e9) != graph.category_count ||
+      next_int(0, 1e9) != directed) {
+    throw corrupt("shape does not match the graph");
+  }
+  for (std::int64_t i = 0; i < count; ++i) {
+    g::Hypothesis h;
+    h.id = next_int(0, 9e15);
+    h.parent_id = next_int(-1, 9e15);
+    const bool has_scheme = next_int(0, 1) == 1;
+    const auto scheme = static_cast<g::Scheme>(next_int(0, g::kSchemeCount - 1));
+    if (has_scheme) h.scheme = scheme;
+    h.score = next();
+    const std::int64_t t = next_int(0, set.step);
+    for (std::int64_t s = 0; s < t; ++s) {
+      g::Match m;
+      m.directed_edge = static_cast<int>(next_int(0, directed - 1));
+      m.interpretation = static_cast<int>(next_int(0, g::kInterpretationCount - 1));
+      m.relative = static_cast<g::Relation>(next_int(0, g::kRelationCount - 1));
+      m.scheme = static_cast<g::Scheme>(next_int(0, g::kSchemeCount - 1));
+      m.score = next();
+      h.matches.push_back(m);
+    }
+    for (std::int64_t s = 0; s < t; ++s) h.lineage.push_back(next_int(0, 9e15));
+    for (std::int64_t s = 0; s < t; ++s) h.lineage_ranks.push_back(static_cast<int>(next_int(0, 1e7)));
+    const auto take = [&](std::vector<double>& out, std::size_t n) {
+      if (at + n > v.size()) throw corrupt("truncated");
+      out.assign(v.begin() + static_cast<std::ptrdiff_t>(at), v.begin() + static_cast<std::ptrdiff_t>(at + n));
+      at += n;
+    };
+    take(h.state.category, vertices * k);
+    take(h.state.orientation, vertices * g::kOrientationCount);
+    take(h.state.relation, static_cast<std::size_t>(directed) * g::kRelationCount);
+    set.ranked.push_back(std::move(h));
+  }
+  if (at != v.size()) throw corrupt("trailing data");
+  return set;
+}
+
+}  // namespace anchordb::services

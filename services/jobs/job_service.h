@@ -1,0 +1,80 @@
+#pragma once
+// Long work as jobs (SPEC §3 "Jobs", §5 "long work returns 202 with a job"): persisted in the jobs table, run one at a
+// time in submission order by one worker thread. Kinds: "forget" (storage/forgetting.h) and "backup"
+// (storage/backup.h: an online copy of the file; a kill leaves no copy under the final name, only a ".partial").
+//
+// - Submit validates synchronously: bad input throws (nothing is queued), an unknown map is 404, a full queue 503.
+// - The forgetting transaction records the job's outcome in the same commit as the deletions, so a job is either
+//   'succeeded' with its deletions or shows no deletion at all; a vacuum runs after that commit (stage "vacuum").
+// - At start-up, jobs found 'queued' or 'running' (a kill -9 or a crash) are marked 'failed' with the error
+//   "interrupted by a server stop"; their result (when the deletions were committed before a vacuum) is kept.
+// - The destructor interrupts a running job (it rolls back, or its vacuum is cut short) and joins the worker.
+// Progress (stage, fraction) of the running job is kept in memory while its transaction holds the write lock and
+// overlaid on the stored row by Get.
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "schema/json_io.h"
+#include "storage/sqlite.h"
+#include "storage/store.h"
+#include "services/common/transitional_json.h"
+
+namespace anchordb::services {
+
+
+struct JobSettings {
+  int max_queued = 16;               // more queued jobs: 503
+  int busy_timeout_ms = 30000;       // the job's own connection waits this long for the write lock
+  std::string synchronous = "FULL";  // of the job's connection (as the store's)
+  std::string backup_dir;            // where backups go; empty: backups are refused
+};
+
+class JobService {
+ public:
+  explicit JobService(storage::Store& store, JobSettings settings = {});
+  ~JobService();
+  JobService(const JobService&) = delete;
+  JobService& operator=(const JobService&) = delete;
+
+  // Body {"policy": {...}, "dry_run": bool}; returns {"job", "status": "queued", "kind", "map"}.
+  Json SubmitForget(const std::string& map, const Json& body);
+  // Body {"label"?: id}: an online copy of the whole database into settings.backup_dir (storage/backup.h); the
+  // job's result names the file. Returns {"job", "status": "queued", "kind": "backup", "request": {"file"}}.
+  Json SubmitBackup(const Json& body);
+  // {id, kind, map, status, stage, progress, request, result, error, created_ns, updated_ns}; unknown id: 404.
+  Json Get(std::int64_t id);
+  // Jobs marked failed at start-up because a server stop interrupted them.
+  int interrupted_at_start() const { return interrupted_at_start_; }
+  // Blocks until no job is queued or running (tests); false on timeout.
+  bool WaitIdle(double timeout_s);
+
+ private:
+  // Reserves a queue slot, writes the queued row (map checked when given) and wakes the worker; returns its id.
+  std::int64_t Enqueue(const std::string& kind, const std::optional<std::string>& map, const Json& request);
+  void Worker();
+  void RunJob(std::int64_t id);
+  void RunBackup(std::int64_t id, const std::string& file);
+
+  storage::Store& store_;
+  JobSettings settings_;
+  int interrupted_at_start_ = 0;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::condition_variable idle_;
+  bool stop_ = false;
+  std::atomic<bool> interrupt_{false};
+  int pending_ = 0;  // queued + running, as this process knows them
+  int reserved_ = 0;  // submissions whose job row is being written (count against max_queued, not yet for the worker)
+  std::int64_t live_id_ = 0;
+  std::string live_stage_;
+  double live_progress_ = 0.0;
+  storage::Connection* live_connection_ = nullptr;  // for sqlite3_interrupt on stop
+  std::thread worker_;
+};
+
+}  // namespace anchordb::services
