@@ -11,12 +11,8 @@
 #include <mutex>
 #include <thread>
 
-#include "api/event_routes.h"
-#include "api/furniture_routes.h"
-#include "api/grid_routes.h"
 #include "api/http_api.h"
-#include "api/job_routes.h"
-#include "api/scene_routes.h"
+#include "api/routes.h"
 #include "schema/error.h"
 #include "server/auth.h"
 #include "server/config.h"
@@ -56,13 +52,13 @@ std::map<std::string, std::string> Environment() {
 
 // The directory of online backups, absolute (job requests name the file a client will look for): the setting,
 // or "backups" beside the database file.
-std::string BackupDir(const Config& c) {
+std::string BackupDir(const ServerOptions& c) {
   const std::filesystem::path dir = c.backup_dir.empty() ? std::filesystem::path(c.db).parent_path() / "backups"
                                                          : std::filesystem::path(c.backup_dir);
   return std::filesystem::absolute(dir).lexically_normal().string();
 }
 
-storage::StoreOptions StoreOptionsOf(const Config& c) {
+storage::StoreOptions StoreOptionsOf(const ServerOptions& c) {
   storage::StoreOptions o;
   o.path = c.db;
   o.connection.busy_timeout_ms = c.busy_timeout_ms;
@@ -72,13 +68,14 @@ storage::StoreOptions StoreOptionsOf(const Config& c) {
 }
 
 int Serve(const Config& config) {
+  const ServerOptions& o = config.server;
   // glibc gives freed memory back to the kernel eagerly (madvise per thread arena): under concurrent short requests
   // that is page faults and TLB shootdowns on every request. A server keeps what it had.
   mallopt(M_TRIM_THRESHOLD, 256 << 20);
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
-  const bool loopback = IsLoopback(config.bind);
-  if (!loopback && config.auth == "off") {
-    std::cerr << "anchordb: refusing to serve " << config.bind << " with auth=off; only loopback may run open\n";
+  const bool loopback = IsLoopback(config.server.bind);
+  if (!loopback && config.server.auth == "off") {
+    std::cerr << "anchordb: refusing to serve " << config.server.bind << " with auth=off; only loopback may run open\n";
     return 2;
   }
   // Signals are handled by one thread with sigwait; block them before any other thread starts.
@@ -89,74 +86,34 @@ int Serve(const Config& config) {
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
   signal(SIGPIPE, SIG_IGN);
 
-  storage::Store store(StoreOptionsOf(config));
+  storage::Store store(StoreOptionsOf(config.server));
   const auto& report = store.migration_report();
   for (const auto& name : report.applied) Log("migration applied: " + name);
-  const bool auth_required = config.auth == "required" || !loopback;
+  const bool auth_required = config.server.auth == "required" || !loopback;
   if (auth_required) {
     const auto tokens = store.Read([](storage::Connection& c) { return storage::CountTokens(c); });
     if (tokens == 0) {
-      std::cerr << "anchordb: binding " << config.bind << " requires API tokens and the database has none; create one "
-                << "with: anchordb token create --role admin --db " << config.db << "\n";
+      std::cerr << "anchordb: binding " << config.server.bind << " requires API tokens and the database has none; create one "
+                << "with: anchordb token create --role admin --db " << config.server.db << "\n";
       return 2;
     }
   }
 
-  services::ServiceLimits limits;
-  limits.max_map_pixels = static_cast<std::size_t>(config.max_map_pixels);
-  limits.max_polygons = static_cast<std::size_t>(config.max_polygons);
-  limits.max_polygon_vertices = static_cast<std::size_t>(config.max_polygon_vertices);
-  limits.max_list_limit = config.max_list_limit;
-  services::GridDefaults defaults;
-  defaults.occupancy = {config.occupied_min, config.free_max};
-  defaults.attention = {config.attention_near_m, config.attention_max_facing_rad};
-  auto& v = defaults.viewpoints;
-  v.dilation_radius_m = config.viewpoint_dilation_m;
-  v.min_obstacle_distance_m = config.viewpoint_min_obstacle_m;
-  v.robot_radius_m = config.viewpoint_robot_radius_m;
-  v.min_surface_distance_m = config.viewpoint_min_surface_m;
-  v.max_surface_distance_m = config.viewpoint_max_surface_m;
-  v.min_person_distance_m = config.viewpoint_min_person_m;
-  v.cluster_spacing_m = config.viewpoint_spacing_m;
-  v.travel_scale_m = config.viewpoint_travel_scale_m;
-  v.weight_position = config.viewpoint_weight_position;
-  v.weight_travel = config.viewpoint_weight_travel;
-  v.seed = static_cast<std::uint64_t>(config.viewpoint_seed);
-  services::GridService service(store, limits, defaults);
-  services::SceneLimits scene_limits;
-  scene_limits.persist_every_frames = config.scene_persist_every_frames;
-  scene_limits.max_image_side = config.scene_max_image_side;
-  scene_limits.settle_frames = config.scene_settle_frames;
-  services::MergeSettings merge;
-  merge.max_candidates = config.merge_max_candidates;
-  merge.max_age_s = config.merge_max_age_s;
-  merge.candidate_radius_m = config.merge_candidate_radius_m;
-  merge.min_overlap = config.merge_min_overlap;
-  merge.frustum_far_m = config.merge_frustum_far_m;
-  merge.supersede_distance_m = config.supersede_distance_m;
-  merge.supersede_angle_rad = config.supersede_angle_rad;
-  services::SceneService scenes(store, scene_limits, merge);
-  services::FurnitureSettings furniture_settings;
-  furniture_settings.n_best = config.grounding_n_best;
-  furniture_settings.sigma = config.grounding_sigma;
-  furniture_settings.edge_max_gap_m = config.grounding_edge_max_gap_m;
-  furniture_settings.relation_sharpness = config.grounding_relation_sharpness;
-  furniture_settings.max_furniture = config.grounding_max_furniture;
-  if (!config.grounding_knowledge.empty()) {
-    std::ifstream in(config.grounding_knowledge);
+  services::CapabilityOptions capability_options = config.capabilities;
+  capability_options.jobs.synchronous = o.synchronous;
+  capability_options.jobs.backup_dir = BackupDir(o);
+  if (!o.grounding_knowledge.empty()) {
+    std::ifstream in(o.grounding_knowledge);
     if (!in) {
-      std::cerr << "anchordb: cannot read grounding_knowledge file " << config.grounding_knowledge << "\n";
+      std::cerr << "anchordb: cannot read grounding_knowledge file " << o.grounding_knowledge << "\n";
       return 2;
     }
-    furniture_settings.knowledge_json.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    capability_options.furniture.knowledge_json.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
-  services::FurnitureService furniture(store, furniture_settings);
-  services::EventSettings event_settings;
-  event_settings.change.segments.cluster_tolerance_m = config.segment_cluster_tolerance_m;
-  event_settings.change.segments.min_points = config.segment_min_points;
-  event_settings.change.segments.min_extent_m = config.segment_min_extent_m;
-  services::EventService events(store, &furniture, event_settings);
-  scenes.SetKeyframeListener(&events);
+  services::Capabilities capabilities(store, capability_options);
+  if (capabilities.jobs.interrupted_at_start() > 0) {
+    Log("jobs interrupted by the previous stop, marked failed: " + std::to_string(capabilities.jobs.interrupted_at_start()));
+  }
 
   api::HttpOptions options;
   options.auth_required = auth_required;
@@ -165,26 +122,15 @@ int Serve(const Config& config) {
     if (!record) return std::nullopt;
     return api::RoleFromName(record->role);
   };
-  if (config.log_requests) options.log = Log;
+  if (config.server.log_requests) options.log = Log;
   options.settings = [config] { return SettingsJson(config); };
-  options.max_body_bytes = static_cast<std::size_t>(config.max_body_bytes);
-  options.max_pending_writes = config.max_pending_writes;
-  services::JobSettings job_settings;
-  job_settings.synchronous = config.synchronous;
-  job_settings.backup_dir = BackupDir(config);
-  services::JobService jobs(store, job_settings);
-  if (jobs.interrupted_at_start() > 0) {
-    Log("jobs interrupted by the previous stop, marked failed: " + std::to_string(jobs.interrupted_at_start()));
-  }
+  options.max_body_bytes = static_cast<std::size_t>(o.max_body_bytes);
+  options.max_pending_writes = o.max_pending_writes;
   api::HttpApi http(options);
-  api::RegisterGridRoutes(http.router(), service);
-  api::RegisterSceneRoutes(http.router(), scenes);
-  api::RegisterFurnitureRoutes(http.router(), furniture);
-  api::RegisterEventRoutes(http.router(), events);
-  api::RegisterJobRoutes(http.router(), jobs);
+  api::RegisterAllRoutes(http.router(), capabilities);
 
   httplib::Server server;
-  const int threads = config.threads;
+  const int threads = config.server.threads;
   server.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
   server.set_keep_alive_max_count(100000);
   // Without TCP_NODELAY, headers and body leave in two writes and every kept-alive request waits ~40 ms for
@@ -193,9 +139,9 @@ int Serve(const Config& config) {
   server.set_read_timeout(10, 0);
   http.Mount(server);
 
-  const int port = config.port == 0 ? server.bind_to_any_port(config.bind) : (server.bind_to_port(config.bind, config.port) ? config.port : -1);
+  const int port = config.server.port == 0 ? server.bind_to_any_port(config.server.bind) : (server.bind_to_port(config.server.bind, config.server.port) ? config.server.port : -1);
   if (port < 0) {
-    std::cerr << "anchordb: cannot listen on " << config.bind << ":" << config.port << "\n";
+    std::cerr << "anchordb: cannot listen on " << config.server.bind << ":" << config.server.port << "\n";
     return 1;
   }
   std::thread signal_thread([&server, signals] {
@@ -204,15 +150,15 @@ int Serve(const Config& config) {
     Log(std::string("received ") + (received == SIGINT ? "SIGINT" : "SIGTERM") + ", shutting down");
     server.stop();
   });
-  std::printf("anchordb listening on http://%s:%d (db %s, schema version %d, auth %s)\n", config.bind.c_str(), port,
-              config.db.c_str(), report.to_version, auth_required ? "required" : "off (loopback)");
+  std::printf("anchordb listening on http://%s:%d (db %s, schema version %d, auth %s)\n", config.server.bind.c_str(), port,
+              config.server.db.c_str(), report.to_version, auth_required ? "required" : "off (loopback)");
   std::fflush(stdout);
   const bool ok = server.listen_after_bind();
   if (signal_thread.joinable()) {
     pthread_kill(signal_thread.native_handle(), SIGTERM);  // wakes sigwait if the server stopped for another reason
     signal_thread.join();
   }
-  scenes.PersistAll();
+  capabilities.scenes.PersistAll();
   Log("stopped; scene models persisted, database closed cleanly");
   return ok ? 0 : 1;
 }
@@ -242,14 +188,14 @@ int BackupCommand(const std::vector<std::string>& args) {
   }
   const Config config = LoadConfig(rest, Environment());
   if (!label.empty() && !json::IsValidId(label)) throw std::invalid_argument("--label: not a valid id: " + label);
-  if (!std::filesystem::exists(config.db)) throw std::invalid_argument("no database at " + config.db);
+  if (!std::filesystem::exists(config.server.db)) throw std::invalid_argument("no database at " + config.server.db);
   if (out.empty()) {
     const std::int64_t now_ns =
         std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
-    out = storage::BackupFileName(BackupDir(config), config.db, now_ns, label);
+    out = storage::BackupFileName(BackupDir(config.server), config.server.db, now_ns, label);
   }
   if (std::filesystem::exists(out)) throw std::invalid_argument("--out: " + out + " exists already");
-  const storage::BackupReport report = storage::Backup(config.db, out, config.busy_timeout_ms);
+  const storage::BackupReport report = storage::Backup(config.server.db, out, config.server.busy_timeout_ms);
   std::cout << report.ToJson().dump(1) << "\n";
   return 0;
 }
@@ -283,9 +229,9 @@ int Forget(const std::vector<std::string>& args) {
   } catch (const Error& e) {
     throw std::invalid_argument(std::string("--policy: ") + e.what());
   }
-  const storage::StoreOptions options = StoreOptionsOf(config);
+  const storage::StoreOptions options = StoreOptionsOf(config.server);
   storage::Store store(options);  // migrates the file first
-  storage::Connection connection(config.db, options.connection);
+  storage::Connection connection(config.server.db, options.connection);
   const std::int64_t now_ns = request.now_ns.value_or(
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
   storage::ForgetReport report;
@@ -338,10 +284,10 @@ int Main(int argc, char** argv) {
         else rest.push_back(args[i]);
       }
       const Config config = LoadConfig(rest, Environment());
-      storage::Store store(StoreOptionsOf(config));
+      storage::Store store(StoreOptionsOf(config.server));
       const CreatedToken t = CreateToken(store, role);
       std::cout << "token " << t.id << " (" << t.role << "): " << t.secret << "\n"
-                << "Store it now: only its hash is kept in " << config.db << ".\n";
+                << "Store it now: only its hash is kept in " << config.server.db << ".\n";
       return 0;
     }
     std::cerr << "anchordb: unknown command '" << args[0] << "'\n";

@@ -3,12 +3,8 @@
 
 #include <set>
 
-#include "api/event_routes.h"
-#include "api/furniture_routes.h"
-#include "api/grid_routes.h"
 #include "api/http_api.h"
-#include "api/job_routes.h"
-#include "api/scene_routes.h"
+#include "api/routes.h"
 #include "storage/store.h"
 #include "tests/support/temp_dir.h"
 
@@ -20,17 +16,9 @@ TEST(OpenApiTest, DocumentMatchesRouteTable) {
   storage::StoreOptions so;
   so.path = dir.File("db.sqlite");
   storage::Store store(so);
-  services::GridService service(store, {}, {});
-  services::SceneService scenes(store, {});
-  services::FurnitureService furniture(store, {});
-  services::EventService events(store, &furniture, {});
-  services::JobService jobs(store);
+  services::Capabilities capabilities(store, {});
   HttpApi api({});
-  RegisterGridRoutes(api.router(), service);
-  RegisterSceneRoutes(api.router(), scenes);
-  RegisterFurnitureRoutes(api.router(), furniture);
-  RegisterEventRoutes(api.router(), events);
-  RegisterJobRoutes(api.router(), jobs);
+  RegisterAllRoutes(api.router(), capabilities);
   const Json doc = Json::parse(HttpApi::OpenApiDocument());
   ASSERT_TRUE(doc.contains("paths"));
   std::set<std::string> registered, documented;

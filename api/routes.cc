@@ -1,0 +1,19 @@
+#include "api/routes.h"
+
+#include "api/event_routes.h"
+#include "api/furniture_routes.h"
+#include "api/grid_routes.h"
+#include "api/job_routes.h"
+#include "api/scene_routes.h"
+
+namespace anchordb::api {
+
+void RegisterAllRoutes(Router& router, services::Capabilities& c) {
+  RegisterGridRoutes(router, c.grid);
+  RegisterSceneRoutes(router, c.scenes);
+  RegisterFurnitureRoutes(router, c.furniture);
+  RegisterEventRoutes(router, c.events);
+  RegisterJobRoutes(router, c.jobs);
+}
+
+}  // namespace anchordb::api

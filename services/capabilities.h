@@ -1,0 +1,43 @@
+#pragma once
+// Every capability of the memory composed on one store: the options of each (defaults in their structs, settings
+// bound in services/<capability>/*_settings.cc) and the services built from them, wired to each other (scene models
+// hand their keyframes to the events service; where-is places things relative to furniture).
+#include "schema/clock.h"
+#include "schema/settings.h"
+#include "services/events/event_service.h"
+#include "services/furniture/furniture_service.h"
+#include "services/grid/grid_service.h"
+#include "services/jobs/job_service.h"
+#include "services/scene/scene_service.h"
+#include "storage/store.h"
+
+namespace anchordb::services {
+
+struct CapabilityOptions {
+  ServiceLimits limits;
+  GridDefaults grid;
+  SceneLimits scene;
+  MergeSettings merge;
+  EventSettings events;
+  FurnitureSettings furniture;
+  JobSettings jobs;
+};
+
+// Binds the settings of every capability, in a stable order.
+void BindCapabilitySettings(SettingsBinder& b, CapabilityOptions& options);
+
+class Capabilities {
+ public:
+  // Throws Error(kInvalidArgument) when options.furniture.knowledge_json does not load.
+  Capabilities(storage::Store& store, const CapabilityOptions& options, const Clock& clock = SystemClock::Instance());
+  Capabilities(const Capabilities&) = delete;
+  Capabilities& operator=(const Capabilities&) = delete;
+
+  GridService grid;
+  SceneService scenes;
+  FurnitureService furniture;
+  EventService events;
+  JobService jobs;
+};
+
+}  // namespace anchordb::services

@@ -1,0 +1,29 @@
+#include "services/capabilities.h"
+
+#include "services/events/event_settings.h"
+#include "services/furniture/furniture_settings.h"
+#include "services/grid/grid_settings.h"
+#include "services/jobs/job_settings.h"
+#include "services/scene/scene_settings.h"
+
+namespace anchordb::services {
+
+void BindCapabilitySettings(SettingsBinder& b, CapabilityOptions& o) {
+  BindGridSettings(b, o.limits, o.grid);
+  BindSceneSettings(b, o.scene, o.merge);
+  BindEventSettings(b, o.events);
+  BindFurnitureSettings(b, o.furniture);
+  BindJobSettings(b, o.jobs);
+}
+
+Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, const Clock& clock)
+    : grid(store, o.limits, o.grid),
+      scenes(store, o.scene, o.merge),
+      furniture(store, o.furniture),
+      events(store, &furniture, o.events),
+      jobs(store, o.jobs) {
+  (void)clock;  // TRANSITIONAL (issue 11): each service takes the clock when its typed interface lands
+  scenes.SetKeyframeListener(&events);
+}
+
+}  // namespace anchordb::services

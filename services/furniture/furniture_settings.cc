@@ -1,0 +1,17 @@
+#include "services/furniture/furniture_settings.h"
+
+namespace anchordb::services {
+
+void BindFurnitureSettings(SettingsBinder& b, FurnitureSettings& f) {
+  b.Bind("grounding_n_best", "hypotheses (graph, match) a furniture graph keeps per description (thesis 5.3.3; default of "
+         "params.n_best)", &f.n_best, 1, 2000);
+  b.Bind("grounding_sigma", "damping of the grounding update p += (p_verbal - p) / sigma (thesis eq. 5.4; 1 = replace)",
+         &f.sigma, 1, 1000);
+  b.Bind("grounding_edge_max_gap_m", "furniture pieces whose footprints are at most this far apart share a graph edge [m]",
+         &f.edge_max_gap_m, 0, 100);
+  b.Bind("grounding_relation_sharpness", "kappa of the initial relation distribution p(r) ∝ exp(kappa cos(angle))",
+         &f.relation_sharpness, 0, 100);
+  b.Bind("grounding_max_furniture", "most furniture pieces in one furniture graph", &f.max_furniture, 2, 1000);
+}
+
+}  // namespace anchordb::services
