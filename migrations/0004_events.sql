@@ -27,6 +27,13 @@ INSERT INTO keyframes_v4 (id, map_id, scene_id, kind, stamp_ns, width, height, d
                           stored_bytes, pinned)
   SELECT id, map_id, scene_id, kind, stamp_ns, width, height, depth, background, raw_bytes, stored_bytes, pinned
   FROM keyframes;
+-- The new table inherits the old one's AUTOINCREMENT high-water mark (DROP TABLE deletes it from sqlite_sequence, and
+-- the copy alone only records the largest id left): the ids of keyframes deleted before, with their map, are never
+-- handed out again. Found by tests/integration/test_old_databases.py on tests/data/schema_0002/0003 files.
+INSERT INTO sqlite_sequence (name, seq)
+  SELECT 'keyframes_v4', 0 WHERE NOT EXISTS (SELECT 1 FROM sqlite_sequence WHERE name = 'keyframes_v4');
+UPDATE sqlite_sequence SET seq = (SELECT MAX(seq) FROM sqlite_sequence WHERE name IN ('keyframes', 'keyframes_v4'))
+ WHERE name = 'keyframes_v4';
 DROP TABLE keyframes;
 ALTER TABLE keyframes_v4 RENAME TO keyframes;
 CREATE INDEX keyframes_by_scene ON keyframes (scene_id, stamp_ns);

@@ -9,6 +9,19 @@ namespace anchordb::services::detail {
 
 using storage::BlobElement;
 
+namespace {
+// Metadata is read from the database: a missing or mistyped field is a corrupt row (kInternal naming it), like a
+// corrupt blob, not a JSON library exception.
+template <typename F>
+auto FromStoredMeta(const char* what, F&& read) {
+  try {
+    return read();
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(ErrorCode::kInternal, std::string("stored layer metadata is corrupt (") + what + "): " + e.what());
+  }
+}
+}  // namespace
+
 Json ParseMeta(const storage::LayerRecord& record) {
   Json j = Json::parse(record.meta_json, nullptr, false);
   if (j.is_discarded() || !j.is_object()) {
@@ -18,15 +31,17 @@ Json ParseMeta(const storage::LayerRecord& record) {
 }
 
 GridGeometry GeometryFromMeta(const Json& meta) {
-  const Json& g = meta.at("geometry");
-  GridGeometry geometry;
-  geometry.width_cells = g.at("width_cells").get<int>();
-  geometry.height_cells = g.at("height_cells").get<int>();
-  geometry.resolution_m = g.at("resolution_m").get<double>();
-  geometry.origin_x_m = g.at("origin")[0].get<double>();
-  geometry.origin_y_m = g.at("origin")[1].get<double>();
-  geometry.origin_yaw_rad = g.at("origin")[2].get<double>();
-  return geometry;
+  return FromStoredMeta("geometry", [&] {
+    const Json& g = meta.at("geometry");
+    GridGeometry geometry;
+    geometry.width_cells = g.at("width_cells").get<int>();
+    geometry.height_cells = g.at("height_cells").get<int>();
+    geometry.resolution_m = g.at("resolution_m").get<double>();
+    geometry.origin_x_m = g.at("origin").at(0).get<double>();
+    geometry.origin_y_m = g.at("origin").at(1).get<double>();
+    geometry.origin_yaw_rad = g.at("origin").at(2).get<double>();
+    return geometry;
+  });
 }
 
 Json MapServerMetaToJson(const MapServerMeta& m) {
@@ -37,17 +52,19 @@ Json MapServerMetaToJson(const MapServerMeta& m) {
 }
 
 MapServerMeta MapServerMetaFromJson(const Json& j) {
-  MapServerMeta m;
-  m.image = j.at("image").get<std::string>();
-  m.resolution_m = j.at("resolution").get<double>();
-  for (int i = 0; i < 3; ++i) m.origin[i] = j.at("origin")[i].get<double>();
-  m.negate = j.at("negate").get<int>();
-  m.occupied_thresh = j.at("occupied_thresh").get<double>();
-  m.free_thresh = j.at("free_thresh").get<double>();
-  const std::string mode = j.at("mode").get<std::string>();
-  m.mode = mode == "scale" ? MapMode::kScale : mode == "raw" ? MapMode::kRaw : MapMode::kTrinary;
-  m.mode_given = j.at("mode_given").get<bool>();
-  return m;
+  return FromStoredMeta("map_server", [&] {
+    MapServerMeta m;
+    m.image = j.at("image").get<std::string>();
+    m.resolution_m = j.at("resolution").get<double>();
+    for (std::size_t i = 0; i < 3; ++i) m.origin[i] = j.at("origin").at(i).get<double>();
+    m.negate = j.at("negate").get<int>();
+    m.occupied_thresh = j.at("occupied_thresh").get<double>();
+    m.free_thresh = j.at("free_thresh").get<double>();
+    const std::string mode = j.at("mode").get<std::string>();
+    m.mode = mode == "scale" ? MapMode::kScale : mode == "raw" ? MapMode::kRaw : MapMode::kTrinary;
+    m.mode_given = j.at("mode_given").get<bool>();
+    return m;
+  });
 }
 
 std::string EncodeImageBlob(const engine::GreyImage& image) {
@@ -85,7 +102,7 @@ std::vector<T> DecodeCells(const storage::LayerRecord& record, BlobElement eleme
 OccupancyLayer DecodeOccupancy(const storage::LayerRecord& record) {
   const Json meta = ParseMeta(record);
   OccupancyLayer out;
-  out.meta = MapServerMetaFromJson(meta.at("map_server"));
+  out.meta = MapServerMetaFromJson(FromStoredMeta("map_server", [&]() -> const Json& { return meta.at("map_server"); }));
   const GridGeometry g = GeometryFromMeta(meta);
   out.image.width = g.width_cells;
   out.image.height = g.height_cells;

@@ -2,7 +2,9 @@
 // byte picks the decoder, the rest is its input. A decoder may refuse its input with anchordb::Error; anything
 // else (a crash, another exception, a sanitizer report, a leak) is a finding.
 //   blob codec (storage rows) | depth PNG | mask PNG | raw depth | map_server YAML | map image (PGM/PNG) |
-//   JSON object + pose / polygons / log-odds parameters | ISO 8601 times
+//   JSON object + pose / polygons / log-odds parameters | ISO 8601 times | furniture-graph hypotheses blob |
+//   layer record (metadata JSON + blob, see api_codecs.h)
+// Inputs: the committed corpus tests/fuzz/corpus/decoders (see README.md).
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -13,13 +15,14 @@
 #include "schema/error.h"
 #include "schema/json_io.h"
 #include "storage/blob_codec.h"
+#include "tests/fuzz/api_codecs.h"
 
 namespace {
 
 using namespace anchordb;
 
 void Decode(std::uint8_t which, std::string_view in) {
-  switch (which % 8) {
+  switch (which % 10) {
     case 0: {
       const storage::DecodedBlob b = storage::DecodeBlob(in);
       (void)b;
@@ -39,6 +42,25 @@ void Decode(std::uint8_t which, std::string_view in) {
       break;
     }
     case 7: json::ParseIso8601Ns(in); break;
+    case 8: {
+      const auto set = fuzz::hypotheses_codec::DecodeHypotheses(fuzz::FuzzGraph(), std::string(in));
+      (void)set;
+      break;
+    }
+    case 9: {
+      const fuzz::LayerInput layer = fuzz::SplitLayerInput(in);
+      storage::LayerRecord record;
+      record.name = "fuzzed";
+      record.meta_json = layer.meta_json;
+      record.data = layer.blob;
+      switch (layer.kind) {
+        case 0: fuzz::layer_codec::DecodeOccupancy(record); break;
+        case 1: fuzz::layer_codec::DecodeLogOdds(record); break;
+        case 2: fuzz::layer_codec::DecodeLabels(record); break;
+        default: fuzz::layer_codec::ParseMeta(record); break;
+      }
+      break;
+    }
   }
 }
 
