@@ -8,14 +8,14 @@
 #include <string>
 #include <string_view>
 
-#include "api/furniture_service.h"  // EncodeHypotheses, DecodeHypotheses
-#include "api/layer_codec.h"        // ParseMeta, DecodeOccupancy, DecodeLogOdds, DecodeLabels, Encode*Blob
+#include "services/furniture/furniture_service.h"  // EncodeHypotheses, DecodeHypotheses
+#include "services/grid/layer_codec.h"        // ParseMeta, DecodeOccupancy, DecodeLogOdds, DecodeLabels, Encode*Blob
 #include "engine/grounding/furniture_graph.h"
 
 namespace anchordb::fuzz {
 
-namespace hypotheses_codec = ::anchordb::api;
-namespace layer_codec = ::anchordb::api::detail;
+namespace hypotheses_codec = ::anchordb::services;
+namespace layer_codec = ::anchordb::services::detail;
 
 // Three pieces seen from the origin, two edges, with the built-in category table.
 inline const engine::grounding::FurnitureGraph& FuzzGraph() {
