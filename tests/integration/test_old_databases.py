@@ -166,6 +166,9 @@ class OldDatabase:
         self.assertEqual(versions, list(range(1, NEWEST + 1)))
         self.assertEqual(self.sql("PRAGMA integrity_check"), [("ok",)])
         self.assertEqual(self.sql("PRAGMA foreign_key_check"), [])
+        # Every index of the newest schema exists (0006 adds instances_by_kind where an early 0005 lacked it).
+        indexes = {n for (n,) in self.sql("SELECT name FROM sqlite_master WHERE type = 'index'")}
+        self.assertIn("instances_by_kind", indexes)
         # No row was lost on the way (tables the migrations rebuilt included).
         for table, rows in old["rows"].items():
             if table == "schema_migrations":
