@@ -3,11 +3,14 @@
 // parameter's name as the field.
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <optional>
 #include <string>
 
 #include "api/http_api.h"
 #include "schema/error.h"
+#include "storage/repositories.h"
 
 namespace anchordb::api::params {
 
@@ -66,5 +69,72 @@ inline std::optional<std::string> QueryChoice(const httplib::Request& req, const
 }
 
 inline Json BodyObject(const httplib::Request& req) { return req.body.empty() ? Json::object() : json::ParseObject(req.body); }
+
+// A query parameter as given, or nullopt when absent.
+inline std::optional<std::string> Query(const httplib::Request& req, const std::string& name) {
+  if (!req.has_param(name)) return std::nullopt;
+  return req.get_param_value(name);
+}
+
+// A finite number ("0.5", "1e-3"), or nullopt when absent; anything else is kInvalidArgument.
+inline std::optional<double> OptionalQueryNumber(const httplib::Request& req, const std::string& name) {
+  const auto text = Query(req, name);
+  if (!text) return std::nullopt;
+  char* end = nullptr;
+  const double v = std::strtod(text->c_str(), &end);
+  if (text->empty() || end != text->c_str() + text->size() || !std::isfinite(v)) {
+    throw Error(ErrorCode::kInvalidArgument, name + " must be a finite number", name);
+  }
+  return v;
+}
+
+// A finite number in [lo, hi] (kUnprocessable outside), or `fallback` (unchecked) when absent.
+inline double QueryNumber(const httplib::Request& req, const std::string& name, double fallback, double lo, double hi) {
+  const auto given = OptionalQueryNumber(req, name);
+  if (!given) return fallback;
+  const double v = *given;
+  if (v < lo || v > hi) {
+    throw Error(ErrorCode::kUnprocessable, name + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", name);
+  }
+  return v;
+}
+
+// A whole number written as any number ("10", "1e1"; "2.5" is kInvalidArgument) in [lo, hi], or `fallback` when
+// absent. (QueryInteger accepts digits only.)
+inline int QueryWholeNumber(const httplib::Request& req, const std::string& name, int fallback, int lo, int hi) {
+  const double v = QueryNumber(req, name, fallback, lo, hi);
+  if (v != std::floor(v)) throw Error(ErrorCode::kInvalidArgument, name + " must be an integer", name);
+  return static_cast<int>(v);
+}
+
+// "true" or "false" (kInvalidArgument otherwise), or `fallback` when absent.
+inline bool QueryTrueFalse(const httplib::Request& req, const std::string& name, bool fallback) {
+  const auto v = Query(req, name);
+  if (!v) return fallback;
+  if (*v != "true" && *v != "false") throw Error(ErrorCode::kInvalidArgument, name + " must be true or false", name);
+  return *v == "true";
+}
+
+// An id (json::CheckId) that must be given.
+inline std::string RequireQueryId(const httplib::Request& req, const std::string& name) {
+  const auto v = Query(req, name);
+  if (!v) throw Error(ErrorCode::kInvalidArgument, "query parameter '" + name + "' is required", name);
+  json::CheckId(*v, name);
+  return *v;
+}
+
+// A box `name`=min_x,min_y,max_x,max_y [m] in the map frame, or nullopt when absent.
+inline std::optional<storage::Bbox> QueryBbox(const httplib::Request& req, const std::string& name = "bbox") {
+  const auto text = Query(req, name);
+  if (!text) return std::nullopt;
+  double v[4];
+  char tail = 0;
+  if (std::sscanf(text->c_str(), "%lf,%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &v[3], &tail) != 4 ||
+      !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]) || !std::isfinite(v[3])) {
+    throw Error(ErrorCode::kInvalidArgument, name + " must be min_x,min_y,max_x,max_y in metres", name);
+  }
+  if (v[0] > v[2] || v[1] > v[3]) throw Error(ErrorCode::kUnprocessable, name + " minimum exceeds its maximum", name);
+  return storage::Bbox{v[0], v[1], v[2], v[3]};
+}
 
 }  // namespace anchordb::api::params

@@ -235,6 +235,16 @@ GridGeometry GeometryOf(const GreyImage& image, const MapServerMeta& meta) {
   return g;
 }
 
+MapServerMeta ScaleModeMeta(const GridGeometry& g, const std::string& image) {
+  MapServerMeta meta;
+  meta.image = image;
+  meta.resolution_m = g.resolution_m;
+  meta.origin[0] = g.origin_x_m, meta.origin[1] = g.origin_y_m, meta.origin[2] = g.origin_yaw_rad;
+  meta.mode = MapMode::kScale;
+  meta.mode_given = true;
+  return meta;
+}
+
 OccupancyGrid ToOccupancy(const GreyImage& image, const MapServerMeta& meta) {
   OccupancyGrid grid(GeometryOf(image, meta), -1);
   for (int row = 0; row < image.height; ++row) {

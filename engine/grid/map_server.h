@@ -36,6 +36,9 @@ std::string EncodePgm(const GreyImage& image);
 std::string EncodePng(const GreyImage& image);
 
 GridGeometry GeometryOf(const GreyImage& image, const MapServerMeta& meta);
+// The YAML describing a probability image of a grid (ProbabilityToImage, render.h) saved as `image`: the grid's
+// resolution and origin, mode scale (written out), default thresholds.
+MapServerMeta ScaleModeMeta(const GridGeometry& geometry, const std::string& image);
 // map_server's interpretation of the pixels: -1 unknown, 0..100.
 OccupancyGrid ToOccupancy(const GreyImage& image, const MapServerMeta& meta);
 

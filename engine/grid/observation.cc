@@ -99,4 +99,9 @@ ObservationCounts ApplyObservation(const OccupancyGrid& occupancy, const Occupan
   return counts;
 }
 
+bool SensorInsideGrid(const GridGeometry& geometry, const Observation& observation) {
+  const Eigen::Vector2d sensor_grid = geometry.MapToGrid(observation.sensor_position_m);
+  return geometry.Contains(static_cast<int>(std::floor(sensor_grid.x())), static_cast<int>(std::floor(sensor_grid.y())));
+}
+
 }  // namespace anchordb::engine

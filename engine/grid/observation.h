@@ -29,6 +29,9 @@ struct ObservationCounts {
   std::size_t stimulus_outside_view = 0;    // stimulus cells the sensor could not have seen (ignored)
 };
 
+// Whether the sensor position lies on a cell of `geometry` (observations from outside the grid are refused).
+bool SensorInsideGrid(const GridGeometry& geometry, const Observation& observation);
+
 // Applies the update in place. `occupancy` and `log_odds` must share one geometry (checked: kUnprocessable).
 ObservationCounts ApplyObservation(const OccupancyGrid& occupancy, const OccupancyThresholds& thresholds,
                                    const LogOddsModel& model, const Observation& observation, LogOddsGrid& log_odds);

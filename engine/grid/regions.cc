@@ -53,4 +53,10 @@ std::vector<Region> ExtractRegions(const ProbabilityGrid& probability, double th
   return regions;
 }
 
+MaskGrid RegionMask(const Region& region, const GridGeometry& geometry) {
+  MaskGrid mask(geometry, 0);
+  for (const int cell : region.cells) mask.cells[cell] = 1;
+  return mask;
+}
+
 }  // namespace anchordb::engine

@@ -21,4 +21,7 @@ struct Region {
 // (Strict, so a never-observed layer, all 0.5, has no region at the default threshold 0.5.)
 std::vector<Region> ExtractRegions(const ProbabilityGrid& probability, double threshold, double min_area_m2);
 
+// The cells of `region` (extracted from a grid of `geometry`) set to 1, the rest 0.
+MaskGrid RegionMask(const Region& region, const GridGeometry& geometry);
+
 }  // namespace anchordb::engine

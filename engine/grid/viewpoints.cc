@@ -174,4 +174,17 @@ ViewpointPlan PlanViewpoints(const OccupancyGrid& occupancy, const MaskGrid& sur
   return plan;
 }
 
+int ChooseSurfaceRegion(const std::vector<Region>& regions, const GridGeometry& geometry, const Agent& person,
+                        const AttentionOptions& attention, std::optional<int> requested_id) {
+  if (regions.empty()) throw Error(ErrorCode::kUnprocessable, "there is no surface region to plan viewpoints around");
+  if (requested_id) {
+    if (*requested_id < 1 || *requested_id > static_cast<int>(regions.size())) {
+      throw Error(ErrorCode::kNotFound, "region " + std::to_string(*requested_id) + " does not exist", "region");
+    }
+    return *requested_id;
+  }
+  const AttentionResult result = ComputeAttention(person, regions, geometry, attention);
+  return result.attended ? result.attended->region_id : result.relations.front().region_id;
+}
+
 }  // namespace anchordb::engine

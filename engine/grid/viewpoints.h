@@ -5,10 +5,13 @@
 // the rest with k-means and rate each cluster's representative cell by travel distance and by its position
 // relative to the person (beside best, in front medium, behind worst).
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "engine/grid/attention.h"
 #include "engine/grid/grid.h"
+#include "engine/grid/regions.h"
 
 namespace anchordb::engine {
 
@@ -52,6 +55,12 @@ struct ViewpointPlan {
 // (kUnprocessable otherwise).
 ViewpointPlan PlanViewpoints(const OccupancyGrid& occupancy, const MaskGrid& surface, const Eigen::Vector2d& robot_m,
                              const Agent& person, const ViewpointOptions& options);
+
+// Which of `regions` (ExtractRegions order, ids 1..n; none is kUnprocessable) viewpoints go around: `requested_id`
+// when given (Error kNotFound, field "region", when no region has that id), else the region the person attends to
+// (ComputeAttention with `attention`), else the region nearest to the person. Returns its id.
+int ChooseSurfaceRegion(const std::vector<Region>& regions, const GridGeometry& geometry, const Agent& person,
+                        const AttentionOptions& attention, std::optional<int> requested_id);
 
 // Shortest 8-connected path lengths [m] from `start` over cells that are free and keep `clearance_m` from
 // obstacles (diagonal steps only between two passable side neighbours); unreachable cells are +inf. The start

@@ -1,22 +1,23 @@
 #pragma once
-// The application functions behind the grid routes: they load and store through storage/, compute through
-// engine/, and return JSON documents or bytes. They never see an HTTP request (the handlers in routes_*.cc
-// parse, call one of these, and serialise), so they are tested directly as well as over HTTP.
-#include <atomic>
-#include <map>
+// The grid capability (maps, layers, observations, regions, agents, attention, viewpoints): typed requests in,
+// typed results out (grid_types.h). It loads and stores through storage/, computes through engine/, and never
+// sees HTTP or JSON (api/grid_routes.cc parses, calls one of these, serialises). Layer kinds are handled through
+// one table (layer_kinds.h). Errors are anchordb::Error: kNotFound naming the map, layer, agent or region (field
+// "map", "layer", "agent", "region"), kConflict for an existing id, a changed version or a layer others depend on,
+// kUnprocessable for a request that cannot apply to the stored layers (a base that is not an occupancy layer,
+// operands over different grids, an observation of a non-probability layer or from outside its grid).
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "engine/grid/attention.h"
-#include "engine/grid/observation.h"
 #include "engine/grid/viewpoints.h"
+#include "schema/clock.h"
 #include "services/common/exported_bytes.h"
-#include "services/common/transitional_json.h"
-#include "storage/repositories.h"
+#include "services/grid/grid_types.h"
 #include "storage/store.h"
 
 namespace anchordb::services {
-
 
 struct ServiceLimits {
   std::size_t max_map_pixels = 25'000'000;   // decoded map image size
@@ -31,48 +32,47 @@ struct GridDefaults {
   engine::ViewpointOptions viewpoints;
 };
 
-
 class GridService {
  public:
-  GridService(storage::Store& store, ServiceLimits limits, GridDefaults defaults);
+  // `clock` stamps maps, layers and agents without a stamp; it must outlive the service.
+  GridService(storage::Store& store, ServiceLimits limits, GridDefaults defaults,
+              const Clock& clock = SystemClock::Instance());
 
-  // maps
-  Json CreateMap(const std::string& id, const std::string& name);
-  Json ListMaps(const std::string& after_id, int limit);
-  Json GetMap(const std::string& id);
-  void DeleteMap(const std::string& id);
+  // ---- maps
+  MapInfo CreateMap(const CreateMapRequest& request);
+  MapPage ListMaps(const ListMapsRequest& request);
+  MapDetails GetMap(const std::string& map);
+  void DeleteMap(const std::string& map);  // with everything in it
 
-  // layers
-  Json ImportOccupancyLayer(const std::string& map, const std::string& layer, std::string_view yaml_text,
-                            std::string_view image_bytes);
-  // {"kind":"probability","base":..,"log_odds":{..}} | {"kind":"fused","op":..,"operands":[..]} |
-  // {"kind":"label","base":..,"labels":{"1":"kitchen"}}
-  Json CreateLayer(const std::string& map, const std::string& layer, const Json& body);
-  Json ListLayers(const std::string& map);
-  Json LayerInfo(const std::string& map, const std::string& layer, bool with_statistics);
-  // format: png | pgm | yaml | raw
-  ExportedLayer ExportLayer(const std::string& map, const std::string& layer, const std::string& format);
-  void DeleteLayer(const std::string& map, const std::string& layer);
-  Json Observe(const std::string& map, const std::string& layer, const engine::Observation& observation);
-  Json PaintLabel(const std::string& map, const std::string& layer, const std::string& label,
-                  const std::vector<Polygon2>& polygons);
-  Json Regions(const std::string& map, const std::string& layer, double threshold, double min_area_m2);
+  // ---- layers
+  // Decodes and checks the YAML and image (kInvalidArgument, kPayloadTooLarge beyond max_map_pixels) before
+  // touching the database.
+  LayerInfo ImportOccupancyLayer(const OccupancyImport& request);
+  LayerInfo CreateLayer(const CreateLayerRequest& request);
+  std::vector<LayerInfo> ListLayers(const std::string& map);  // without statistics, in name order
+  LayerInfo GetLayer(const std::string& map, const std::string& layer, bool with_statistics);
+  // Content type, bytes and X-Grid-Width/-Height, X-Layer-Version (and X-Element for raw) headers.
+  ExportedLayer ExportLayer(const std::string& map, const std::string& layer, LayerFormat format);
+  void DeleteLayer(const std::string& map, const std::string& layer);  // kConflict while others depend on it
+  ObservationResult Observe(const ObserveRequest& request);
+  PaintLabelResult PaintLabel(const PaintLabelRequest& request);
+  LayerRegions Regions(const RegionsRequest& request);
 
-  // agents and attention
-  Json PutAgent(const std::string& map, const Agent& agent);
-  Json GetAgent(const std::string& map, const std::string& id);
-  Json ListAgents(const std::string& map, const std::optional<storage::Bbox>& bbox);
-  Json Attention(const std::string& map, const std::string& agent, const std::string& layer, double threshold);
-  Json Viewpoints(const std::string& map, const Eigen::Vector2d& robot_m, const std::string& agent,
-                  const std::string& layer, double threshold, std::optional<int> region_id, int max_viewpoints);
+  // ---- agents, attention, viewpoints
+  Agent PutAgent(const PutAgentRequest& request);  // create or replace; returns what is stored
+  Agent GetAgent(const std::string& map, const std::string& agent);
+  std::vector<Agent> ListAgents(const std::string& map, const std::optional<storage::Bbox>& bbox_M);
+  AttentionResult Attention(const AttentionRequest& request);
+  // kUnprocessable when the layer has no region above the threshold or the robot is not on known free space.
+  ViewpointsResult Viewpoints(const ViewpointsRequest& request);
 
   const ServiceLimits& limits() const { return limits_; }
 
  private:
-
   storage::Store& store_;
   ServiceLimits limits_;
   GridDefaults defaults_;
+  const Clock& clock_;
 };
 
 }  // namespace anchordb::services

@@ -1,36 +1,18 @@
 #pragma once
-// Internal to api/grid_service.cc and api/grid_attention.cc: the write guard of the service and the helpers both
-// files use.
+// Internal to services/grid/grid_service.cc and grid_attention.cc: what both use besides the kind table.
 #include <string>
 
-#include "services/grid/grid_service.h"
-#include "services/grid/layer_codec.h"
-#include "engine/grid/regions.h"
 #include "schema/error.h"
+#include "services/grid/layer_kinds.h"
+#include "storage/repositories.h"
 
-namespace anchordb::services {
+namespace anchordb::services::grid_detail {
 
-namespace grid_detail {
-
-inline Json RegionJson(const engine::Region& r) {
-  return {{"id", r.id},
-          {"area_m2", r.area_m2},
-          {"cells", r.cell_count},
-          {"centroid", {r.centroid_m.x(), r.centroid_m.y()}},
-          {"mean_probability", r.mean_probability},
-          {"polygon", json::ToJson(r.polygon_m)}};
+// A tracked person of the map; kNotFound naming it (field "agent").
+inline Agent RequireAgent(storage::Connection& c, const std::string& map, const std::string& agent) {
+  auto found = storage::FindAgent(c, map, agent);
+  if (!found) throw Error(ErrorCode::kNotFound, "agent '" + agent + "' does not exist in map '" + map + "'", "agent");
+  return std::move(*found);
 }
 
-// The base layer of a probability/label layer must be an occupancy layer of the same map.
-inline storage::LayerRecord RequireOccupancyBase(storage::Connection& c, const std::string& map, const std::string& base) {
-  storage::LayerRecord record = detail::RequireLayer(c, map, base);
-  if (record.kind != LayerKind::kOccupancy) {
-    throw Error(ErrorCode::kUnprocessable, "base layer '" + base + "' is not an occupancy layer", "base");
-  }
-  return record;
-}
-
-}  // namespace grid_detail
-
-
-}  // namespace anchordb::services
+}  // namespace anchordb::services::grid_detail

@@ -99,7 +99,7 @@ std::vector<RealView> ReadViews() {
 class RealRoom {
  public:
   explicit RealRoom(const std::string& file) : store_(Options(dir_.File(file))), grid_(store_, {}, {}), scenes(store_, {}) {
-    grid_.CreateMap("room", "slambook ch5 room");
+    grid_.CreateMap({"room", "slambook ch5 room"});
   }
   // Opens a scene model at the view's pose (fx 518, fy 519) and feeds it the view's depth three times.
   std::int64_t Observe(const RealView& v) {

@@ -1,0 +1,42 @@
+// Occupancy layers: a map_server map as imported (YAML values and image pixels), read with map_server's rules.
+#include "engine/grid/layer_values.h"
+#include "services/grid/layer_kinds.h"
+
+namespace anchordb::services::grid_detail {
+namespace {
+
+LayerMeta Meta(const storage::LayerRecord& record) { return storage::DecodeOccupancyMeta(record); }
+
+engine::ProbabilityGrid Probability(const MapLayers&, const storage::LayerRecord& record, int) {
+  return engine::OccupancyToProbability(DecodeOccupancyView(record).grid);
+}
+
+LayerStatistics Statistics(const MapLayers&, const storage::LayerRecord& record,
+                           const engine::OccupancyThresholds& thresholds) {
+  return engine::CountOccupancy(DecodeOccupancyView(record).grid, thresholds);
+}
+
+// Every format shows the layer as imported: the same pixels, the same YAML values.
+std::optional<ExportedLayer> ExportOwn(const storage::LayerRecord& record, LayerFormat format) {
+  OccupancyView view = DecodeOccupancyView(record);
+  switch (format) {
+    case LayerFormat::kPng: return ExportedLayer{"image/png", engine::EncodePng(view.image), {}};
+    case LayerFormat::kPgm: return ExportedLayer{"image/x-portable-graymap", engine::EncodePgm(view.image), {}};
+    case LayerFormat::kYaml:
+      view.map_server.image = record.name + ".pgm";
+      return ExportedLayer{"application/yaml", engine::EmitMapServerYaml(view.map_server), {}};
+    case LayerFormat::kRaw:
+      return ExportedLayer{"application/octet-stream", std::string(view.image.pixels.begin(), view.image.pixels.end()),
+                           {{"X-Element", "u8-image-order"}}};
+  }
+  return std::nullopt;
+}
+
+std::string OccupancyBase(const MapLayers&, const storage::LayerRecord& record) { return record.name; }
+
+}  // namespace
+
+const LayerKindOps kOccupancyKind{.kind = LayerKind::kOccupancy, .create = nullptr, .meta = Meta, .probability = Probability,
+                                  .statistics = Statistics, .export_own = ExportOwn, .occupancy_base = OccupancyBase};
+
+}  // namespace anchordb::services::grid_detail
