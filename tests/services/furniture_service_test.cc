@@ -91,6 +91,7 @@ TEST_F(FurnitureServiceTest, GroundsAConversationAndCorrectsTheMisclassifiedShel
   EXPECT_FALSE(created.best.scheme);
   EXPECT_GE(created.edges.size(), 6u);
   EXPECT_EQ(created.created_ns, 1'000'000'000);
+  EXPECT_NE(service_->knowledge_json().find("\"frame_prior\""), std::string::npos);  // the built-in tables
   clock_.AdvanceNs(5);
   for (const DescriptionRequest& d : Conversation()) service_->Describe("home", created.id, d);
   const GraphView g = service_->Get("home", created.id);
