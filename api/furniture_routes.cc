@@ -1,10 +1,9 @@
-// Routes of furniture graphs and grounding (thesis 5.3): parse, call FurnitureService, serialise.
+// Routes of furniture graphs and grounding (thesis 5.3): parse (api/furniture_json.h), call FurnitureService,
+// serialise.
 #include "api/furniture_routes.h"
-#include <cmath>
 
-#include "api/http_api.h"
+#include "api/furniture_json.h"
 #include "api/route_params.h"
-#include "schema/error.h"
 
 namespace anchordb::api {
 
@@ -21,32 +20,35 @@ void RegisterFurnitureRoutes(Router& router, FurnitureService& f) {
   router.Add("POST", "/v1/maps/{map}/furniture-graphs", Role::kWriter,
       "Build a furniture graph from furniture seen from a viewpoint (viewpoint, furniture with category "
       "probabilities, params n_best/sigma/edge_max_gap_m/relation_sharpness/adaptation/frame_prior)",
-      [&f](const httplib::Request& req, const PathParams& p) { return JsonResponse(f.Create(p["map"], json::ParseObject(req.body)), 201); });
+      [&f](const httplib::Request& req, const PathParams& p) {
+        return JsonResponse(ToJson(f.Create(p["map"], ParseCreateGraph(json::ParseObject(req.body)))), 201);
+      });
   router.Add("GET", "/v1/maps/{map}/furniture-graphs", Role::kReader, "Furniture graphs of a map, newest first (before=, limit=)",
       [&f](const httplib::Request& req, const PathParams& p) {
-        return JsonResponse(f.List(p["map"], QueryInteger(req, "before", 0, 0, 9'000'000'000'000'000'000),
-                                   static_cast<int>(QueryInteger(req, "limit", 100, 1, 1000))));
+        return JsonResponse(ToJson(f.List(p["map"], QueryInteger(req, "before", 0, 0, 9'000'000'000'000'000'000),
+                                          static_cast<int>(QueryInteger(req, "limit", 100, 1, 1000)))));
       });
   router.Add("GET", "/v1/maps/{map}/furniture-graphs/{graph}", Role::kReader,
       "The best furniture graph: vertices with p(f) and p(o), edges with p(r), and the grounded descriptions",
-      [&f](const httplib::Request&, const PathParams& p) { return JsonResponse(f.Get(p["map"], GraphId(p))); });
+      [&f](const httplib::Request&, const PathParams& p) { return JsonResponse(ToJson(f.Get(p["map"], GraphId(p)))); });
   router.Add("POST", "/v1/maps/{map}/furniture-graphs/{graph}/descriptions", Role::kWriter,
       "Ground one spatial description: {located, relation, reference} or {text} (\"the table is in front of the shelf\")",
       [&f](const httplib::Request& req, const PathParams& p) {
-        return JsonResponse(f.Describe(p["map"], GraphId(p), json::ParseObject(req.body)), 201);
+        const DescriptionRequest d = ParseDescription(json::ParseObject(req.body), f.settings().max_text_length);
+        return JsonResponse(ToJson(f.Describe(p["map"], GraphId(p), d)), 201);
       });
   router.Add("GET", "/v1/maps/{map}/furniture-graphs/{graph}/hypotheses", Role::kReader,
       "The live n-best hypotheses, best first (limit=, default 20)", [&f](const httplib::Request& req, const PathParams& p) {
-        return JsonResponse(f.Hypotheses(p["map"], GraphId(p), static_cast<int>(QueryInteger(req, "limit", 20, 1, 100000))));
+        return JsonResponse(ToJson(f.Hypotheses(p["map"], GraphId(p), static_cast<int>(QueryInteger(req, "limit", 20, 1, 100000)))));
       });
   router.Add("POST", "/v1/maps/{map}/furniture-graphs/{graph}:reset", Role::kWriter,
       "Forget the descriptions: back to the graph as seen", [&f](const httplib::Request&, const PathParams& p) {
-        return JsonResponse(f.Reset(p["map"], GraphId(p)));
+        return JsonResponse(ToJson(f.Reset(p["map"], GraphId(p))));
       });
   router.Add("POST", "/v1/maps/{map}/furniture-graphs/{graph}:describe", Role::kReader,
       "Speech production: how this listener most likely names two pieces and their relation {located, reference}",
       [&f](const httplib::Request& req, const PathParams& p) {
-        return JsonResponse(f.Produce(p["map"], GraphId(p), json::ParseObject(req.body)));
+        return JsonResponse(ToJson(f.Produce(p["map"], GraphId(p), ParseProduce(json::ParseObject(req.body)))));
       });
 }
 

@@ -12,10 +12,12 @@
 #include <thread>
 
 #include "api/http_api.h"
+#include "api/job_json.h"
 #include "api/routes.h"
 #include "schema/error.h"
 #include "server/auth.h"
 #include "server/config.h"
+#include "services/jobs/forget_job.h"
 #include "storage/backup.h"
 #include "storage/forgetting.h"
 #include "storage/repositories.h"
@@ -224,7 +226,8 @@ int Forget(const std::vector<std::string>& args) {
     json::Json body = json::Json::object();
     if (!policy_text.empty()) body["policy"] = json::ParseObject(policy_text);
     body["dry_run"] = dry_run;
-    request = storage::ParseForgetRequest(body);
+    request = api::ParseForgetRequest(body);
+    services::CheckForgetRequest(request, SystemClock::Instance().NowNs());
     if (vacuum) request.policy.vacuum = true;
   } catch (const Error& e) {
     throw std::invalid_argument(std::string("--policy: ") + e.what());
@@ -232,8 +235,7 @@ int Forget(const std::vector<std::string>& args) {
   const storage::StoreOptions options = StoreOptionsOf(config.server);
   storage::Store store(options);  // migrates the file first
   storage::Connection connection(config.server.db, options.connection);
-  const std::int64_t now_ns = request.now_ns.value_or(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
+  const std::int64_t now_ns = request.now_ns.value_or(SystemClock::Instance().NowNs());
   storage::ForgetReport report;
   try {
     report = storage::Forget(connection, map, request.policy, now_ns, request.dry_run);

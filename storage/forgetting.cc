@@ -6,26 +6,12 @@
 #include <limits>
 
 #include "schema/error.h"
-#include "schema/json_io.h"
 #include "storage/repositories.h"
 
 namespace anchordb::storage {
 namespace {
 
 using Json = nlohmann::json;
-
-constexpr double kMaxAgeS = 100.0 * 365.25 * 86400.0;  // keeps now - age representable in int64 nanoseconds
-
-std::optional<double> ParseAge(const Json& policy, const std::string& key, std::optional<double> fallback) {
-  auto it = policy.find(key);
-  if (it == policy.end()) return fallback;
-  if (it->is_null()) return std::nullopt;  // explicitly: never expire
-  const std::string field = "policy." + key;
-  const double v = json::AsFiniteNumber(*it, field);
-  if (v < 0) throw Error(ErrorCode::kUnprocessable, field + " must not be negative (seconds)", field);
-  if (v > kMaxAgeS) throw Error(ErrorCode::kUnprocessable, field + " must be at most 100 years in seconds", field);
-  return v;
-}
 
 std::int64_t PragmaInt(Connection& c, const char* sql) {
   Statement s(c, sql);
@@ -232,37 +218,6 @@ void Vacuum(Connection& c, ForgetReport& r, const ForgetProgress& progress) {
 }
 
 }  // namespace
-
-ForgetRequest ParseForgetRequest(const Json& body) {
-  if (!body.is_object()) throw Error(ErrorCode::kInvalidJson, "request body must be a JSON object");
-  json::RejectUnknownKeys(body, {"policy", "dry_run", "now"});
-  ForgetRequest out;
-  out.dry_run = json::BoolOr(body, "dry_run", false);
-  if (body.contains("now") && !body["now"].is_null()) {
-    out.now_ns = json::AsStampNs(body["now"], "now");
-    const auto wall = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
-    if (*out.now_ns > wall) throw Error(ErrorCode::kUnprocessable, "now must not lie in the future", "now");
-  }
-  auto it = body.find("policy");
-  if (it == body.end() || it->is_null()) return out;
-  const Json& p = *it;
-  if (!p.is_object()) throw Error(ErrorCode::kInvalidArgument, "policy must be an object", "policy");
-  json::RejectUnknownKeys(p, {"superseded_models", "keyframe_max_age_s", "keep_relevance_at_least", "event_max_age_s",
-                              "vacuum"},
-                          "policy");
-  ForgetPolicy& policy = out.policy;
-  policy.drop_superseded = json::BoolOr(p, "superseded_models", policy.drop_superseded, "policy");
-  policy.keyframe_max_age_s = ParseAge(p, "keyframe_max_age_s", policy.keyframe_max_age_s);
-  policy.event_max_age_s = ParseAge(p, "event_max_age_s", policy.event_max_age_s);
-  policy.keep_relevance_at_least =
-      json::FiniteNumberOr(p, "keep_relevance_at_least", policy.keep_relevance_at_least, "policy");
-  if (policy.keep_relevance_at_least < 0.0 || policy.keep_relevance_at_least > 1.0) {
-    throw Error(ErrorCode::kUnprocessable, "policy.keep_relevance_at_least must be in [0, 1]",
-                "policy.keep_relevance_at_least");
-  }
-  policy.vacuum = json::BoolOr(p, "vacuum", policy.vacuum, "policy");
-  return out;
-}
 
 Json ToJson(const ForgetPolicy& p) {
   return {{"superseded_models", p.drop_superseded},

@@ -26,30 +26,12 @@
 #include <string_view>
 #include <vector>
 
+#include "storage/forget_policy.h"
 #include "storage/sqlite.h"
 
 namespace anchordb::storage {
 
-struct ForgetPolicy {
-  bool drop_superseded = true;                          // JSON "superseded_models"
-  std::optional<double> keyframe_max_age_s = 7 * 86400.0;  // nullopt (JSON null): keyframes never expire
-  double keep_relevance_at_least = 0.5;
-  std::optional<double> event_max_age_s = 30 * 86400.0;    // nullopt (JSON null): events never expire
-  bool vacuum = false;
-};
-
-struct ForgetRequest {
-  ForgetPolicy policy;
-  bool dry_run = false;
-  // The clock ages are measured from (JSON "now": ns or ISO 8601, not in the future); default the wall clock. A
-  // simulation or a replay of recorded data forgets by its own time.
-  std::optional<std::int64_t> now_ns;
-};
-
-// Parses {"policy": {"superseded_models", "keyframe_max_age_s", "keep_relevance_at_least", "event_max_age_s",
-// "vacuum"}, "dry_run", "now"}; every key optional. Unknown keys and wrong types: Error kInvalidArgument (400); negative
-// or absurd ages (over 100 years) and a relevance outside [0, 1]: kUnprocessable (422); the field is named.
-ForgetRequest ParseForgetRequest(const nlohmann::json& body);
+// The stored form of a policy (the job's request and the report carry it).
 nlohmann::json ToJson(const ForgetPolicy& policy);
 
 struct ForgetReport {

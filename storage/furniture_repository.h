@@ -1,6 +1,7 @@
 #pragma once
 // SQL for furniture graphs (thesis 5.3): the graph rows with their live hypotheses, and the stream of grounded
-// descriptions. The JSON columns and the hypotheses blob are opaque here; api/furniture_service.cc gives them meaning.
+// descriptions. The JSON columns and the hypotheses blob are opaque here; services/furniture/ gives the documents their
+// meaning, storage/hypotheses_codec.h the blob.
 #include <cstdint>
 #include <optional>
 #include <string>

@@ -311,7 +311,13 @@ Json EventService::Where(const std::string& map, const std::string& raw_label, s
                 {"at_ns", at_ns ? Json(*at_ns) : Json(nullptr)}};
   });
   const Eigen::Vector3d p(out["position_m"][0].get<double>(), out["position_m"][1].get<double>(), out["position_m"][2].get<double>());
-  std::optional<Json> place = furniture_ && graph ? furniture_->Place(map, p, graph) : std::nullopt;
+  std::optional<Json> place;
+  if (const auto placed = furniture_ && graph ? furniture_->Place(map, p, graph) : std::nullopt) {
+    place = Json{{"graph", placed->graph}, {"furniture", placed->furniture}, {"category", placed->category},
+                 {"name", placed->name}, {"relation", placed->relation},
+                 {"frame", placed->frame ? Json(*placed->frame) : Json(nullptr)}, {"gap_m", placed->gap_m},
+                 {"phrase", placed->phrase}};
+  }
   if (!place) {  // plain geometry: the nearest furniture instance an operator entered
     const std::vector<engine::FurniturePiece>& list = pieces;
     if (!list.empty()) {

@@ -1,10 +1,9 @@
 #include "services/furniture/furniture_service.h"
 
-#include <chrono>
-#include <functional>
-
 #include "services/furniture/furniture_service_internal.h"
-#include "engine/grounding/parser.h"
+#include "engine/grounding/readings.h"
+#include "storage/hypotheses_codec.h"
+#include "storage/repositories.h"
 
 namespace anchordb::services {
 
@@ -12,60 +11,52 @@ using namespace furniture_detail;  // NOLINT: the graph's helpers are this file'
 
 namespace {
 
-std::int64_t NowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
+Error NoMap(const std::string& map) { return Error(ErrorCode::kNotFound, "map '" + map + "' does not exist", "map"); }
 
-std::string SchemeName(const std::optional<g::Scheme>& s) { return s ? g::SchemeId(*s) : "none"; }
-
-Json Distribution(const double* p, int n, const std::function<const char*(int)>& name) {
-  Json out = Json::object();
-  for (int i = 0; i < n; ++i) out[name(i)] = p[i];
+MatchView MatchOf(const g::FurnitureGraph& graph, const g::Match& m) {
+  MatchView out;
+  out.located = graph.vertices[static_cast<std::size_t>(graph.Located(m.directed_edge))].id;
+  out.reference = graph.vertices[static_cast<std::size_t>(graph.Reference(m.directed_edge))].id;
+  out.frame = g::FrameOf(m.interpretation);
+  out.relation_seen = m.relative;
+  out.scheme = m.scheme;
+  out.score = m.score;
+  if (out.frame == g::Frame::kIntrinsic) out.reference_front = g::OrientationOf(m.interpretation);
   return out;
 }
 
-Json RelationDistribution(const double* p) {
-  return Distribution(p, g::kRelationCount, [](int i) { return g::RelationId(static_cast<g::Relation>(i)); });
-}
+BestHypothesis BestOf(const g::Hypothesis& h) { return {h.id, h.scheme, h.score}; }
 
-// A match as the client sees it: which pieces, which frame (and orientation of the reference for the intrinsic
-// frame), and the relation as seen from the viewpoint.
-Json MatchJson(const g::FurnitureGraph& graph, const g::Match& m) {
-  Json out = {{"located", graph.vertices[static_cast<std::size_t>(graph.Located(m.directed_edge))].id},
-              {"reference", graph.vertices[static_cast<std::size_t>(graph.Reference(m.directed_edge))].id},
-              {"frame", g::FrameId(g::FrameOf(m.interpretation))},
-              {"relation_seen", g::RelationId(m.relative)},
-              {"scheme", g::SchemeId(m.scheme)},
-              {"score", m.score}};
-  out["reference_front"] = g::FrameOf(m.interpretation) == g::Frame::kIntrinsic ? Json(g::OrientationId(g::OrientationOf(m.interpretation))) : Json(nullptr);
+g::Distribution4 RelationRow(const g::GraphState& s, std::size_t directed) {
+  g::Distribution4 out{};
+  for (std::size_t r = 0; r < g::kRelationCount; ++r) out[r] = s.relation[directed * g::kRelationCount + r];
   return out;
 }
 
 }  // namespace
 
-FurnitureService::FurnitureService(storage::Store& store, FurnitureSettings settings)
-    : store_(store), settings_(std::move(settings)), knowledge_doc_(KnowledgeDocument(settings_.knowledge_json)) {}
+FurnitureService::FurnitureService(storage::Store& store, FurnitureSettings settings, const Clock& clock)
+    : store_(store), settings_(std::move(settings)), clock_(clock), knowledge_json_(KnowledgeDocument(settings_.knowledge_json)) {}
 
-Json FurnitureService::Create(const std::string& map, const Json& body) {
-  json::RejectUnknownKeys(body, {"viewpoint", "furniture", "params"});
+GraphView FurnitureService::Create(const std::string& map, const CreateGraphRequest& request) {
   auto graph = std::make_shared<Graph>();
-  graph->knowledge = g::LoadKnowledge(knowledge_doc_.dump());
-  graph->viewpoint = ParseViewpoint(json::Require(body, "viewpoint"));
-  graph->config = ParseConfig(body.contains("params") ? &body["params"] : nullptr, settings_);
-  const auto furniture = ParseFurniture(json::Require(body, "furniture"), graph->knowledge.categories, settings_.max_furniture);
+  graph->knowledge = g::LoadKnowledge(knowledge_json_);
+  graph->viewpoint = request.viewpoint;
+  graph->params = ResolveParams(request.params, settings_);
+  const auto furniture = ResolveFurniture(request.furniture, graph->knowledge.categories, settings_.max_furniture);
   graph->graph = g::BuildFurnitureGraph(graph->viewpoint, furniture, graph->knowledge.categories.size(),
-                                        g::GraphParams{graph->config.edge_max_gap_m, graph->config.relation_sharpness});
+                                        g::GraphParams{graph->params.edge_max_gap_m, graph->params.relation_sharpness});
   graph->set = g::InitialHypotheses(graph->graph);
   storage::FurnitureGraphRecord& r = graph->record;
   r.map_id = map;
-  r.viewpoint_json = ViewpointJson(graph->viewpoint).dump();
-  r.params_json = graph->config.ToJson().dump();
-  r.knowledge_json = knowledge_doc_.dump();
-  r.graph_json = GraphJson(graph->graph).dump();
-  r.created_ns = r.updated_ns = NowNs();
-  r.hypotheses = EncodeHypotheses(graph->graph, graph->set);
+  r.viewpoint_json = ViewpointDocument(graph->viewpoint);
+  r.params_json = ParamsDocument(graph->params);
+  r.knowledge_json = knowledge_json_;
+  r.graph_json = GraphDocument(graph->graph);
+  r.created_ns = r.updated_ns = clock_.NowNs();
+  r.hypotheses = storage::EncodeHypotheses(graph->graph, graph->set);
   r.id = store_.Write([&](storage::Connection& c) {
-    if (!storage::FindMap(c, map)) throw Error(ErrorCode::kNotFound, "map '" + map + "' does not exist", "map");
+    if (!storage::FindMap(c, map)) throw NoMap(map);
     return storage::InsertFurnitureGraph(c, r);
   });
   r.hypotheses.clear();
@@ -90,17 +81,16 @@ std::shared_ptr<FurnitureService::Graph> FurnitureService::Acquire(const std::st
     }
   }
   auto record = store_.Read([&](storage::Connection& c) {
-    if (!storage::FindMap(c, map)) throw Error(ErrorCode::kNotFound, "map '" + map + "' does not exist", "map");
+    if (!storage::FindMap(c, map)) throw NoMap(map);
     return storage::FindFurnitureGraph(c, map, id, true);
   });
   if (!record) throw not_found();
   auto graph = std::make_shared<Graph>();
   graph->knowledge = g::LoadKnowledge(record->knowledge_json);
-  graph->config = ConfigFromStored(Json::parse(record->params_json));
-  const Json viewpoint = Json::parse(record->viewpoint_json);
-  graph->viewpoint = ParseViewpoint(viewpoint);
-  graph->graph = GraphFromJson(Json::parse(record->graph_json));
-  graph->set = DecodeHypotheses(graph->graph, record->hypotheses);
+  graph->params = ParamsFromDocument(record->params_json);
+  graph->viewpoint = ViewpointFromDocument(record->viewpoint_json);
+  graph->graph = GraphFromDocument(record->graph_json);
+  graph->set = storage::DecodeHypotheses(graph->graph, record->hypotheses);
   record->hypotheses.clear();
   graph->record = std::move(*record);
   std::lock_guard<std::mutex> lock(graphs_mutex_);
@@ -112,113 +102,86 @@ std::shared_ptr<FurnitureService::Graph> FurnitureService::Acquire(const std::st
   return it->second;  // another thread may have loaded it first: use that one
 }
 
-Json FurnitureService::View(const Graph& gr, const std::vector<storage::GraphDescriptionRecord>& descriptions) const {
+GraphView FurnitureService::View(const Graph& gr, const std::vector<storage::GraphDescriptionRecord>& descriptions) const {
   const g::FurnitureGraph& graph = gr.graph;
   const g::Hypothesis& best = gr.set.ranked.front();
   const int k = graph.category_count;
   const auto& cats = gr.knowledge.categories;
-  Json vertices = Json::array();
+  GraphView out;
+  out.id = gr.record.id;
+  out.map = gr.record.map_id;
+  out.viewpoint = gr.viewpoint;
+  out.params = gr.params;
+  out.created_ns = gr.record.created_ns;
+  out.updated_ns = gr.record.updated_ns;
+  out.descriptions = gr.set.step;
+  out.hypotheses = gr.set.ranked.size();
+  out.best = BestOf(best);
   for (std::size_t i = 0; i < graph.vertices.size(); ++i) {
     const g::Vertex& v = graph.vertices[i];
     const double* pf = &best.state.category[i * static_cast<std::size_t>(k)];
-    const double* po = &best.state.orientation[i * g::kOrientationCount];
-    const int label = Argmax(pf, k), front = Argmax(po, g::kOrientationCount);
-    const bool known_front = std::count(po, po + g::kOrientationCount, po[front]) == 1;
-    vertices.push_back({{"id", v.id},
-                        {"position", Vec(v.position_m)},
-                        {"extent", Vec(v.extent_m)},
-                        {"yaw_rad", v.yaw_rad},
-                        {"label", cats[label].id},
-                        {"label_probability", pf[label]},
-                        {"categories", Distribution(pf, k, [&](int c) { return cats[c].id.c_str(); })},
-                        {"front", known_front ? Json(g::OrientationId(static_cast<g::Orientation>(front))) : Json(nullptr)},
-                        {"orientations", Distribution(po, g::kOrientationCount, [](int o) { return g::OrientationId(static_cast<g::Orientation>(o)); })}});
+    const int label = g::MostProbableCategory(best.state, k, static_cast<int>(i));
+    VertexView& view = out.vertices.emplace_back();
+    view.id = v.id;
+    view.position_m = v.position_m;
+    view.extent_m = v.extent_m;
+    view.yaw_rad = v.yaw_rad;
+    view.label = cats[label].id;
+    view.label_probability = pf[label];
+    for (int c = 0; c < k; ++c) view.categories.push_back({cats[c].id, pf[c]});
+    view.front = g::KnownFront(best.state, static_cast<int>(i));
+    for (std::size_t o = 0; o < g::kOrientationCount; ++o) view.orientations[o] = best.state.orientation[i * g::kOrientationCount + o];
   }
-  Json edges = Json::array();
   for (std::size_t e = 0; e < graph.edges.size(); ++e) {
     const g::Edge& edge = graph.edges[e];
-    edges.push_back({{"a", graph.vertices[static_cast<std::size_t>(edge.a)].id},
-                     {"b", graph.vertices[static_cast<std::size_t>(edge.b)].id},
-                     {"gap_m", edge.gap_m},
-                     {"a_relative_to_b", RelationDistribution(&best.state.relation[(2 * e) * g::kRelationCount])},
-                     {"b_relative_to_a", RelationDistribution(&best.state.relation[(2 * e + 1) * g::kRelationCount])},
-                     {"visual", {{"a_relative_to_b", RelationDistribution(edge.visual[0].data())},
-                                 {"b_relative_to_a", RelationDistribution(edge.visual[1].data())}}}});
+    out.edges.push_back({graph.vertices[static_cast<std::size_t>(edge.a)].id, graph.vertices[static_cast<std::size_t>(edge.b)].id,
+                         edge.gap_m, RelationRow(best.state, 2 * e), RelationRow(best.state, 2 * e + 1), edge.visual[0],
+                         edge.visual[1]});
   }
-  Json groundings = Json::array();
   for (std::size_t t = 0; t < best.matches.size(); ++t) {
-    Json item = MatchJson(graph, best.matches[t]);
-    item["seq"] = t + 1;
+    GroundedDescription& item = out.groundings.emplace_back();
+    item.seq = static_cast<int>(t + 1);
+    item.match = MatchOf(graph, best.matches[t]);
     if (t < descriptions.size()) {
-      item["input"] = Json::parse(descriptions[t].input_json);
-      item["understood"] = {{"located", descriptions[t].located}, {"relation", descriptions[t].relation},
-                            {"reference", descriptions[t].reference}};
+      item.input = DescriptionFromDocument(descriptions[t].input_json);
+      item.understood = Understood{descriptions[t].located, descriptions[t].relation, descriptions[t].reference, std::nullopt};
     }
-    groundings.push_back(item);
   }
-  return {{"id", gr.record.id},
-          {"map", gr.record.map_id},
-          {"viewpoint", ViewpointJson(gr.viewpoint)},
-          {"params", gr.config.ToJson()},
-          {"created_ns", gr.record.created_ns},
-          {"updated_ns", gr.record.updated_ns},
-          {"descriptions", gr.set.step},
-          {"hypotheses", gr.set.ranked.size()},
-          {"best", {{"hypothesis", best.id}, {"scheme", SchemeName(best.scheme)}, {"score", best.score}}},
-          {"vertices", vertices},
-          {"edges", edges},
-          {"groundings", groundings}};
+  return out;
 }
 
-Json FurnitureService::List(const std::string& map, std::int64_t before_id, int limit) {
+std::vector<GraphSummary> FurnitureService::List(const std::string& map, std::int64_t before_id, int limit) {
   return store_.Read([&](storage::Connection& c) {
-    if (!storage::FindMap(c, map)) throw Error(ErrorCode::kNotFound, "map '" + map + "' does not exist", "map");
-    Json out = {{"furniture_graphs", Json::array()}};
+    if (!storage::FindMap(c, map)) throw NoMap(map);
+    std::vector<GraphSummary> out;
     for (const auto& r : storage::ListFurnitureGraphs(c, map, before_id, limit)) {
-      out["furniture_graphs"].push_back({{"id", r.id}, {"viewpoint", Json::parse(r.viewpoint_json)}, {"params", Json::parse(r.params_json)},
-                                         {"descriptions", r.descriptions}, {"created_ns", r.created_ns}, {"updated_ns", r.updated_ns}});
+      out.push_back({r.id, ViewpointFromDocument(r.viewpoint_json), ParamsFromDocument(r.params_json), r.descriptions,
+                     r.created_ns, r.updated_ns});
     }
     return out;
   });
 }
 
-Json FurnitureService::Get(const std::string& map, std::int64_t id) {
+GraphView FurnitureService::Get(const std::string& map, std::int64_t id) {
   auto graph = Acquire(map, id);
   std::lock_guard<std::mutex> lock(graph->mutex);
   const auto descriptions = store_.Read([&](storage::Connection& c) { return storage::ListGraphDescriptions(c, id); });
   return View(*graph, descriptions);
 }
 
-Json FurnitureService::Describe(const std::string& map, std::int64_t id, const Json& body) {
-  json::RejectUnknownKeys(body, {"text", "located", "relation", "reference"});
+GroundingResult FurnitureService::Describe(const std::string& map, std::int64_t id, const DescriptionRequest& request) {
   auto graph = Acquire(map, id);
   const g::CategoryTable& cats = graph->knowledge.categories;
-  g::Description d;
-  Json understood;
-  if (body.contains("text")) {
-    if (body.contains("located") || body.contains("relation") || body.contains("reference")) {
-      BadArgument("give either text or located, relation and reference, not both", "text");
-    }
-    const std::string text = json::RequireString(body, "text", settings_.max_text_length);
-    const g::ParsedDescription p = g::ParseSentence(text, cats, "text");
-    d = p.description;
-    understood = {{"words", {{"located", p.located_words}, {"relation", p.relation_words}, {"reference", p.reference_words}}}};
-  } else {
-    d.located = g::ParseCategory(json::RequireString(body, "located", 64), cats, "located");
-    d.relation = g::ParseRelation(json::RequireString(body, "relation", 64), "relation");
-    d.reference = g::ParseCategory(json::RequireString(body, "reference", 64), cats, "reference");
-    understood = Json::object();
-  }
-  understood["located"] = cats[d.located].id;
-  understood["relation"] = g::RelationId(d.relation);
-  understood["reference"] = cats[d.reference].id;
+  const ResolvedDescription resolved = ResolveDescription(request, cats);
+  const g::Description& d = resolved.description;
 
   std::lock_guard<std::mutex> lock(graph->mutex);
-  g::HypothesisSet next = g::Ground(graph->graph, graph->knowledge, graph->set, d, graph->config.Grounding());
-  const std::string blob = EncodeHypotheses(graph->graph, next);
-  const std::int64_t now = NowNs();
+  g::HypothesisSet next = g::Ground(graph->graph, graph->knowledge, graph->set, d, GroundingParamsOf(graph->params));
+  const std::string blob = storage::EncodeHypotheses(graph->graph, next);
+  const std::int64_t now = clock_.NowNs();
   store_.Write([&](storage::Connection& c) {
-    storage::InsertGraphDescription(c, {id, next.step, body.dump(), cats[d.located].id, g::RelationId(d.relation), cats[d.reference].id, now});
+    storage::InsertGraphDescription(c, {id, next.step, DescriptionDocument(request), resolved.understood.located,
+                                        resolved.understood.relation, resolved.understood.reference, now});
     storage::UpdateFurnitureGraphState(c, id, next.step, blob, now, graph->record.state_version);
   });
   graph->record.state_version += 1;
@@ -226,51 +189,52 @@ Json FurnitureService::Describe(const std::string& map, std::int64_t id, const J
   graph->record.descriptions = next.step;
   graph->set = std::move(next);
   const g::Hypothesis& best = graph->set.ranked.front();
-  Json sequence = Json::array();
-  for (const g::Match& m : best.matches) sequence.push_back(MatchJson(graph->graph, m));
-  // A revision: the best sequence no longer runs through the previous best hypothesis (figures 5.9-5.10).
-  bool revised = false;
-  for (std::size_t t = 0; t + 1 < best.lineage_ranks.size(); ++t) revised = revised || best.lineage_ranks[t] != 0;
-  return {{"graph", id},
-          {"seq", graph->set.step},
-          {"understood", understood},
-          {"match", MatchJson(graph->graph, best.matches.back())},
-          {"best", {{"hypothesis", best.id}, {"scheme", SchemeName(best.scheme)}, {"score", best.score},
-                    {"ancestor_ranks", best.lineage_ranks}, {"revised", revised}}},
-          {"groundings", sequence},
-          {"hypotheses", graph->set.ranked.size()}};
+  GroundingResult out;
+  out.graph = id;
+  out.seq = graph->set.step;
+  out.understood = resolved.understood;
+  out.match = MatchOf(graph->graph, best.matches.back());
+  out.best = BestOf(best);
+  out.ancestor_ranks = best.lineage_ranks;
+  out.revised = g::IsRevised(best);
+  for (const g::Match& m : best.matches) out.groundings.push_back(MatchOf(graph->graph, m));
+  out.hypotheses = graph->set.ranked.size();
+  return out;
 }
 
-Json FurnitureService::Hypotheses(const std::string& map, std::int64_t id, int limit) {
+HypothesisList FurnitureService::Hypotheses(const std::string& map, std::int64_t id, int limit) {
   auto graph = Acquire(map, id);
   std::lock_guard<std::mutex> lock(graph->mutex);
   const int k = graph->graph.category_count;
-  Json list = Json::array();
+  HypothesisList out;
+  out.graph = id;
+  out.descriptions = graph->set.step;
+  out.count = graph->set.ranked.size();
   const std::size_t n = std::min(graph->set.ranked.size(), static_cast<std::size_t>(limit));
   for (std::size_t rank = 0; rank < n; ++rank) {
     const g::Hypothesis& h = graph->set.ranked[rank];
-    Json labels = Json::object();
+    HypothesisView& view = out.hypotheses.emplace_back();
+    view.rank = static_cast<int>(rank + 1);
+    view.id = h.id;
+    if (h.parent_id >= 0) view.parent = h.parent_id;
+    view.scheme = h.scheme;
+    view.score = h.score;
+    view.ancestor_ranks = h.lineage_ranks;
+    if (!h.matches.empty()) view.last_match = MatchOf(graph->graph, h.matches.back());
     for (std::size_t v = 0; v < graph->graph.vertices.size(); ++v) {
-      labels[graph->graph.vertices[v].id] = graph->knowledge.categories[Argmax(&h.state.category[v * static_cast<std::size_t>(k)], k)].id;
+      view.labels.push_back({graph->graph.vertices[v].id,
+                             graph->knowledge.categories[g::MostProbableCategory(h.state, k, static_cast<int>(v))].id});
     }
-    list.push_back({{"rank", rank + 1},
-                    {"id", h.id},
-                    {"parent", h.parent_id < 0 ? Json(nullptr) : Json(h.parent_id)},
-                    {"scheme", SchemeName(h.scheme)},
-                    {"score", h.score},
-                    {"ancestor_ranks", h.lineage_ranks},
-                    {"last_match", h.matches.empty() ? Json(nullptr) : MatchJson(graph->graph, h.matches.back())},
-                    {"labels", labels}});
   }
-  return {{"graph", id}, {"descriptions", graph->set.step}, {"count", graph->set.ranked.size()}, {"hypotheses", list}};
+  return out;
 }
 
-Json FurnitureService::Reset(const std::string& map, std::int64_t id) {
+GraphView FurnitureService::Reset(const std::string& map, std::int64_t id) {
   auto graph = Acquire(map, id);
   std::lock_guard<std::mutex> lock(graph->mutex);
   g::HypothesisSet initial = g::InitialHypotheses(graph->graph);
-  const std::string blob = EncodeHypotheses(graph->graph, initial);
-  const std::int64_t now = NowNs();
+  const std::string blob = storage::EncodeHypotheses(graph->graph, initial);
+  const std::int64_t now = clock_.NowNs();
   store_.Write([&](storage::Connection& c) {
     storage::DeleteGraphDescriptions(c, id);
     storage::UpdateFurnitureGraphState(c, id, 0, blob, now, graph->record.state_version);

@@ -3,18 +3,23 @@
 // routes. A graph is built from furniture seen from a viewpoint; every description is grounded against the live
 // n-best hypotheses, and the new set is written to the database (with the description) before the call returns,
 // so a restarted server continues a conversation exactly where it stopped. Bad input (unknown words, a relation
-// outside the vocabulary, a sentence that does not parse) is refused before anything changes.
+// outside the vocabulary, a sentence that does not parse) is refused with anchordb::Error naming the field before
+// anything changes; an unknown map or graph is kNotFound.
+#include <Eigen/Core>
+
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
-#include "engine/grounding/grounding.h"
+#include "schema/clock.h"
+#include "services/furniture/furniture_types.h"
+#include "services/furniture/placement.h"
 #include "storage/furniture_repository.h"
-#include "storage/repositories.h"
 #include "storage/store.h"
-#include "services/common/transitional_json.h"
 
 namespace anchordb::services {
 
@@ -34,39 +39,44 @@ struct FurnitureSettings {
 class FurnitureService {
  public:
   // Throws Error(kInvalidArgument) when settings.knowledge_json does not load.
-  FurnitureService(storage::Store& store, FurnitureSettings settings);
+  FurnitureService(storage::Store& store, FurnitureSettings settings, const Clock& clock = SystemClock::Instance());
 
-  Json Create(const std::string& map, const Json& body);
-  Json List(const std::string& map, std::int64_t before_id, int limit);
-  Json Get(const std::string& map, std::int64_t id);
-  Json Describe(const std::string& map, std::int64_t id, const Json& body);  // ground one description
-  Json Hypotheses(const std::string& map, std::int64_t id, int limit);
-  Json Reset(const std::string& map, std::int64_t id);
-  Json Produce(const std::string& map, std::int64_t id, const Json& body);   // speech production (:describe)
+  // Builds a graph (G0 = the graph as seen). Unknown category words: kUnprocessable naming
+  // "furniture[i].categories.<word>"; too many pieces: kPayloadTooLarge; a repeated id: kConflict.
+  GraphView Create(const std::string& map, const CreateGraphRequest& request);
+  // Graphs of the map with id < before_id (0 = from the newest), newest first, at most `limit`.
+  std::vector<GraphSummary> List(const std::string& map, std::int64_t before_id, int limit);
+  GraphView Get(const std::string& map, std::int64_t id);
+  // Grounds one description and stores the new hypotheses; a word or sentence not understood: kUnprocessable
+  // naming "text", "located", "relation" or "reference".
+  GroundingResult Describe(const std::string& map, std::int64_t id, const DescriptionRequest& request);
+  // The live hypotheses, best first, at most `limit`.
+  HypothesisList Hypotheses(const std::string& map, std::int64_t id, int limit);
+  // Forgets the descriptions: back to G0.
+  GraphView Reset(const std::string& map, std::int64_t id);
+  // Speech production: unknown vertex kNotFound; two pieces without an edge or the same piece kUnprocessable.
+  Utterance Produce(const std::string& map, std::int64_t id, const ProduceRequest& request);
 
-  // Where a thing at p_M stands relative to the furniture of the map's newest graph, in the words the grounding
-  // model of that graph's listener prefers (SPEC §4.4): {graph, furniture, category, name, relation, frame, gap_m,
-  // phrase}. Nullopt when the map has no furniture graph.
+  // Where a thing at p_M (map frame [m]) stands relative to the furniture of the map's newest graph, in the words
+  // the grounding model of that graph's listener prefers (SPEC §4.4). Nullopt when the map has no furniture graph.
   // `graph`: the graph to use when the caller already knows the newest one (saves a database read).
-  std::optional<Json> Place(const std::string& map, const Eigen::Vector3d& p_M, std::optional<std::int64_t> graph = {});
+  std::optional<Placement> Place(const std::string& map, const Eigen::Vector3d& p_M, std::optional<std::int64_t> graph = {});
 
-  // The knowledge new graphs are created with, as a document.
-  const Json& knowledge() const { return knowledge_doc_; }
+  const FurnitureSettings& settings() const { return settings_; }
+  // The knowledge document new graphs are created with, serialised (JSON text as stored with each graph).
+  const std::string& knowledge_json() const { return knowledge_json_; }
 
  private:
   struct Graph;
   std::shared_ptr<Graph> Acquire(const std::string& map, std::int64_t id);
-  Json View(const Graph& g, const std::vector<storage::GraphDescriptionRecord>& descriptions) const;
+  GraphView View(const Graph& g, const std::vector<storage::GraphDescriptionRecord>& descriptions) const;
 
   storage::Store& store_;
   FurnitureSettings settings_;
-  Json knowledge_doc_;
+  const Clock& clock_;
+  std::string knowledge_json_;
   std::mutex graphs_mutex_;
   std::map<std::int64_t, std::shared_ptr<Graph>> graphs_;
 };
-
-// The codec of the hypotheses blob (exposed for tests): a versioned f64 array.
-std::string EncodeHypotheses(const engine::grounding::FurnitureGraph& graph, const engine::grounding::HypothesisSet& set);
-engine::grounding::HypothesisSet DecodeHypotheses(const engine::grounding::FurnitureGraph& graph, const std::string& blob);
 
 }  // namespace anchordb::services

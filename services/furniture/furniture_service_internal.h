@@ -1,7 +1,6 @@
 #pragma once
-// Internal to api/furniture_*.cc: the in-memory state of a furniture graph, its typed params, and the helpers the
-// service's files share (request parsing and the stored form of a graph live in furniture_graph_json.cc).
-#include <algorithm>
+// Internal to services/furniture/*.cc: the in-memory state of a furniture graph, the checks of typed requests
+// (furniture_requests.cc) and the stored form of a graph (furniture_graph_json.cc: JSON documents in the database).
 #include <mutex>
 #include <string>
 #include <vector>
@@ -15,47 +14,31 @@ namespace g = engine::grounding;
 
 namespace furniture_detail {
 
-[[noreturn]] inline void BadArgument(const std::string& message, const std::string& field) {
-  throw Error(ErrorCode::kInvalidArgument, message, field);
-}
-
-inline Json Vec(const Eigen::Vector2d& v) { return Json::array({v.x(), v.y()}); }
-
-inline int Argmax(const double* p, int n) { return static_cast<int>(std::max_element(p, p + n) - p); }
-
-struct GraphConfig {
-  int n_best = 100;
-  double sigma = 3.0;
-  double edge_max_gap_m = 1.5;
-  double relation_sharpness = 3.0;
-  bool adaptation = true;
-  std::string frame_prior = "statistical";
-
-  Json ToJson() const {
-    return {{"n_best", n_best}, {"sigma", sigma}, {"edge_max_gap_m", edge_max_gap_m}, {"relation_sharpness", relation_sharpness},
-            {"adaptation", adaptation}, {"frame_prior", frame_prior}};
-  }
-  g::GroundingParams Grounding() const {
-    g::GroundingParams p;
-    p.n_best = n_best;
-    p.sigma = sigma;
-    const g::Scheme base = frame_prior == "uniform" ? g::Scheme::kUniform : g::Scheme::kStatistical;
-    p.schemes = adaptation ? std::vector<g::Scheme>{base, g::Scheme::kRelative, g::Scheme::kIntrinsic} : std::vector<g::Scheme>{base};
-    return p;
-  }
+// Requests (furniture_requests.cc). Each check throws Error naming the offending field.
+FurnitureGraphParams ResolveParams(const GraphParamsRequest& request, const FurnitureSettings& settings);
+g::GroundingParams GroundingParamsOf(const FurnitureGraphParams& params);
+std::vector<g::FurnitureInput> ResolveFurniture(const std::vector<FurniturePieceRequest>& pieces,
+                                                const g::CategoryTable& table, int max_furniture);
+// The description in the graph's categories, and what it was understood as.
+struct ResolvedDescription {
+  g::Description description;
+  Understood understood;
 };
+ResolvedDescription ResolveDescription(const DescriptionRequest& request, const g::CategoryTable& table);
 
-// Requests and the stored form (furniture_graph_json.cc). Parsing throws Error naming the offending field.
-g::Viewpoint ParseViewpoint(const Json& j);
-Json ViewpointJson(const g::Viewpoint& v);
-std::vector<g::FurnitureInput> ParseFurniture(const Json& j, const g::CategoryTable& table, int max_furniture);
-GraphConfig ParseConfig(const Json* j, const FurnitureSettings& s);
-GraphConfig ConfigFromStored(const Json& j);
+// The stored form (furniture_graph_json.cc), as the database keeps it.
+std::string ViewpointDocument(const g::Viewpoint& v);
+g::Viewpoint ViewpointFromDocument(const std::string& text);
+std::string ParamsDocument(const FurnitureGraphParams& p);
+FurnitureGraphParams ParamsFromDocument(const std::string& text);
 // The graph as built, stored whole so that a later change of the building code cannot change a live conversation.
-Json GraphJson(const g::FurnitureGraph& graph);
-g::FurnitureGraph GraphFromJson(const Json& j);
+std::string GraphDocument(const g::FurnitureGraph& graph);
+g::FurnitureGraph GraphFromDocument(const std::string& text);
 // The knowledge document new graphs are created with: `text` checked and completed with the built-in tables.
-Json KnowledgeDocument(const std::string& text);
+std::string KnowledgeDocument(const std::string& text);
+// A description as given (the input stored with it).
+std::string DescriptionDocument(const DescriptionRequest& request);
+DescriptionRequest DescriptionFromDocument(const std::string& text);
 
 }  // namespace furniture_detail
 
@@ -64,7 +47,7 @@ struct FurnitureService::Graph {
   storage::FurnitureGraphRecord record;  // hypotheses blob not kept here
   g::FurnitureGraph graph;
   g::Knowledge knowledge;
-  furniture_detail::GraphConfig config;
+  FurnitureGraphParams params;
   g::Viewpoint viewpoint;
   g::HypothesisSet set;
 };

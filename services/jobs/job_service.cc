@@ -1,37 +1,75 @@
 #include "services/jobs/job_service.h"
 
-#include "storage/job_repository.h"
-
 #include <chrono>
 
 #include "schema/error.h"
-#include "storage/backup.h"
-#include "storage/forgetting.h"
+#include "services/jobs/backup_job.h"
+#include "services/jobs/forget_job.h"
+#include "storage/job_repository.h"
 #include "storage/repositories.h"
 
 namespace anchordb::services {
 namespace {
 
 constexpr const char* kInterrupted = "interrupted by a server stop";
+constexpr const char* kCancelled = "cancelled";
 
-// The stage a job of `kind` starts in.
-const char* FirstStage(const std::string& kind) { return kind == "backup" ? "copying" : "forgetting"; }
-
-std::int64_t NowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+JobStatus StatusOf(const std::string& id) {
+  if (id == "queued") return JobStatus::kQueued;
+  if (id == "running") return JobStatus::kRunning;
+  if (id == "succeeded") return JobStatus::kSucceeded;
+  return JobStatus::kFailed;
 }
 
-void SetJobStatus(storage::Connection& c, std::int64_t id, const std::string& status, const std::string& stage,
-                  double progress, const Json* result, const std::string* error) {
-  const std::string result_json = result ? result->dump() : std::string();
-  storage::SetJobStatus(c, id, status, stage, progress, result ? &result_json : nullptr, error, NowNs());
-}
+Error NoJob(std::int64_t id) { return Error(ErrorCode::kNotFound, "job " + std::to_string(id) + " does not exist", "job"); }
 
 }  // namespace
 
-JobService::JobService(storage::Store& store, JobSettings settings) : store_(store), settings_(std::move(settings)) {
+// The running job as its runner sees it.
+class JobService::Context final : public JobContext {
+ public:
+  Context(JobService& service, storage::JobRecord record) : service_(service), record_(std::move(record)) {}
+  std::int64_t id() const override { return record_.id; }
+  const std::optional<std::string>& map() const override { return record_.map_id; }
+  const std::string& request() const override { return record_.request_json; }
+  std::int64_t NowNs() const override { return service_.clock_.NowNs(); }
+  void Progress(std::string_view stage, double fraction) override {
+    ThrowIfCancelled();
+    std::lock_guard<std::mutex> lock(service_.mutex_);
+    service_.live_stage_ = std::string(stage);
+    service_.live_progress_ = fraction;
+  }
+  void Progress(double fraction) override {
+    ThrowIfCancelled();
+    std::lock_guard<std::mutex> lock(service_.mutex_);
+    service_.live_progress_ = fraction;
+  }
+  bool Cancelled() const override { return service_.interrupt_ || service_.cancel_; }
+  void SetInterruptible(storage::Connection* c) override {
+    std::lock_guard<std::mutex> lock(service_.mutex_);
+    service_.live_connection_ = c;
+    if (c && Cancelled()) sqlite3_interrupt(c->handle());
+  }
+  void Record(storage::Connection& c, JobStatus status, const std::string& stage, double progress,
+              const std::string* result_json) override {
+    service_.SetStatus(c, record_.id, status, stage, progress, result_json, nullptr);
+  }
+
+ private:
+  void ThrowIfCancelled() const {
+    if (service_.interrupt_) throw Error(ErrorCode::kOverloaded, kInterrupted);
+    if (service_.cancel_) throw Error(ErrorCode::kOverloaded, kCancelled);
+  }
+  JobService& service_;
+  storage::JobRecord record_;
+};
+
+JobService::JobService(storage::Store& store, JobSettings settings, const Clock& clock)
+    : store_(store), settings_(std::move(settings)), clock_(clock) {
+  registry_.Register(ForgetJobKind(store_.path(), settings_));
+  registry_.Register(BackupJobKind(store_.path(), settings_));
   interrupted_at_start_ = store_.Write(
-      [](storage::Connection& c) { return storage::MarkUnfinishedJobsFailed(c, kInterrupted, NowNs()); });
+      [&](storage::Connection& c) { return storage::MarkUnfinishedJobsFailed(c, kInterrupted, clock_.NowNs()); });
   worker_ = std::thread([this] { Worker(); });
 }
 
@@ -46,26 +84,31 @@ JobService::~JobService() {
   if (worker_.joinable()) worker_.join();
 }
 
-Json JobService::SubmitForget(const std::string& map, const Json& body) {
-  const storage::ForgetRequest request = storage::ParseForgetRequest(body);  // throws on bad input: nothing queued
-  Json stored = {{"policy", storage::ToJson(request.policy)}, {"dry_run", request.dry_run}};
-  if (request.now_ns) stored["now"] = *request.now_ns;
-  const std::int64_t id = Enqueue("forget", map, stored);
-  return {{"job", id}, {"status", "queued"}, {"kind", "forget"}, {"map", map}, {"request", stored}};
+void JobService::Register(JobKind kind) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  registry_.Register(std::move(kind));
 }
 
-Json JobService::SubmitBackup(const Json& body) {
-  json::RejectUnknownKeys(body, {"label"});
-  const std::string label = json::OptionalString(body, "label", 64).value_or("");
-  if (!label.empty()) json::CheckId(label, "label");  // it becomes part of a file name
-  if (settings_.backup_dir.empty()) throw Error(ErrorCode::kUnprocessable, "this server has no backup_dir", "backup_dir");
-  const std::string file = storage::BackupFileName(settings_.backup_dir, store_.path(), NowNs(), label);
-  const Json stored = {{"file", file}};
-  const std::int64_t id = Enqueue("backup", std::nullopt, stored);
-  return {{"job", id}, {"status", "queued"}, {"kind", "backup"}, {"map", nullptr}, {"request", stored}};
+void JobService::SetStatus(storage::Connection& c, std::int64_t id, JobStatus status, const std::string& stage,
+                           double progress, const std::string* result_json, const std::string* error) const {
+  storage::SetJobStatus(c, id, JobStatusId(status), stage, progress, result_json, error, clock_.NowNs());
 }
 
-std::int64_t JobService::Enqueue(const std::string& kind, const std::optional<std::string>& map, const Json& request) {
+JobTicket JobService::Submit(const std::string& kind, const std::optional<std::string>& map, const std::string& request_json) {
+  std::shared_ptr<const JobKind> k;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    k = registry_.Find(kind);
+  }
+  if (!k) throw Error(ErrorCode::kInvalidArgument, "unknown job kind '" + kind + "'", "kind");
+  if (k->needs_map != map.has_value()) {
+    throw Error(ErrorCode::kInvalidArgument, "a " + kind + " job is " + (k->needs_map ? "" : "not ") + "for one map", "map");
+  }
+  if (k->check) k->check({map, request_json, clock_.NowNs()});  // throws on bad input: nothing queued
+  return {Enqueue(kind, map, request_json), kind, map, request_json};
+}
+
+std::int64_t JobService::Enqueue(const std::string& kind, const std::optional<std::string>& map, const std::string& request_json) {
   {
     // The queue slot is taken under the mutex, the job row written without it: the running job takes the mutex
     // (progress) while it holds the database's write lock, so waiting for that lock here under the mutex would
@@ -82,7 +125,7 @@ std::int64_t JobService::Enqueue(const std::string& kind, const std::optional<st
   try {
     id = store_.Write([&](storage::Connection& c) {
       if (map && !storage::FindMap(c, *map)) throw Error(ErrorCode::kNotFound, "map '" + *map + "' does not exist", "map");
-      return storage::InsertJob(c, kind, map, request.dump(), NowNs());
+      return storage::InsertJob(c, kind, map, request_json, clock_.NowNs());
     });
   } catch (...) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -99,26 +142,36 @@ std::int64_t JobService::Enqueue(const std::string& kind, const std::optional<st
   return id;
 }
 
-Json JobService::Get(std::int64_t id) {
+JobView JobService::Get(std::int64_t id) {
   const auto r = store_.Read([&](storage::Connection& c) { return storage::FindJob(c, id); });
-  if (!r) throw Error(ErrorCode::kNotFound, "job " + std::to_string(id) + " does not exist", "job");
-  Json j = {{"id", r->id},
-            {"kind", r->kind},
-            {"map", r->map_id ? Json(*r->map_id) : Json(nullptr)},
-            {"status", r->status},
-            {"stage", r->stage},
-            {"progress", r->progress},
-            {"request", Json::parse(r->request_json, nullptr, false)},
-            {"result", r->result_json ? Json::parse(*r->result_json, nullptr, false) : Json(nullptr)},
-            {"error", r->error ? Json(*r->error) : Json(nullptr)},
-            {"created_ns", r->created_ns},
-            {"updated_ns", r->updated_ns}};
+  if (!r) throw NoJob(id);
+  JobView v{r->id, r->kind, r->map_id, StatusOf(r->status), r->stage, r->progress, r->request_json, r->result_json,
+            r->error, r->created_ns, r->updated_ns};
   std::lock_guard<std::mutex> lock(mutex_);
-  if (live_id_ == id && j["status"] == "running") {
-    j["stage"] = live_stage_;
-    j["progress"] = live_progress_;
+  if (live_id_ == id && v.status == JobStatus::kRunning) {
+    v.stage = live_stage_;
+    v.progress = live_progress_;
   }
-  return j;
+  return v;
+}
+
+bool JobService::Cancel(std::int64_t id) {
+  const std::string cancelled = kCancelled;
+  const JobStatus was = store_.Write([&](storage::Connection& c) {
+    const auto r = storage::FindJob(c, id);
+    if (!r) throw NoJob(id);
+    const JobStatus status = StatusOf(r->status);
+    if (status == JobStatus::kQueued) SetStatus(c, id, JobStatus::kFailed, r->stage, r->progress, nullptr, &cancelled);
+    return status;
+  });
+  if (was == JobStatus::kQueued) return true;  // the worker skips it
+  if (was != JobStatus::kRunning) return false;
+  // Running: the worker set live_id_ in the transaction that marked it running, so it is this job unless it ended.
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (live_id_ != id) return false;
+  cancel_ = true;
+  if (live_connection_) sqlite3_interrupt(live_connection_->handle());
+  return true;
 }
 
 bool JobService::WaitIdle(double timeout_s) {
@@ -140,7 +193,7 @@ void JobService::Worker() {
       id = 0;
     }
     if (id == 0) {
-      // The queued row vanished (its map was deleted, which cascades to its jobs): nothing to run for it.
+      // The queued row vanished (its map was deleted, which cascades to its jobs, or it was cancelled).
       std::lock_guard<std::mutex> lock(mutex_);
       if (pending_ > 0) --pending_;
       if (pending_ == 0 && reserved_ == 0) idle_.notify_all();
@@ -150,106 +203,60 @@ void JobService::Worker() {
     std::lock_guard<std::mutex> lock(mutex_);
     if (pending_ > 0) --pending_;
     live_id_ = 0;
+    cancel_ = false;
     if (pending_ == 0 && reserved_ == 0) idle_.notify_all();
   }
 }
 
 void JobService::RunJob(std::int64_t id) {
-  std::string map;
-  storage::ForgetRequest request;
-  bool committed = false;
-  Json result;
+  std::shared_ptr<const JobKind> kind;
   try {
-    const auto job = store_.Write([&](storage::Connection& c) {
+    const auto job = store_.Write([&](storage::Connection& c) -> std::optional<storage::JobRecord> {
       auto r = storage::FindJob(c, id);
       if (!r) throw Error(ErrorCode::kNotFound, "job vanished");
-      SetJobStatus(c, id, "running", FirstStage(r->kind), 0.0, nullptr, nullptr);
-      return *r;
-    });
-    {
+      if (r->status != "queued") return std::nullopt;  // cancelled after the worker picked it
       std::lock_guard<std::mutex> lock(mutex_);
+      kind = registry_.Find(r->kind);
       live_id_ = id;
-      live_stage_ = FirstStage(job.kind);
+      live_stage_ = kind ? kind->first_stage : "";
       live_progress_ = 0.0;
-    }
-    if (job.kind == "backup") {
-      RunBackup(id, Json::parse(job.request_json).at("file").get<std::string>());
-      return;
-    }
-    map = job.map_id.value_or("");
-    request = storage::ParseForgetRequest(Json::parse(job.request_json));
-    storage::ConnectionOptions options;
-    options.busy_timeout_ms = settings_.busy_timeout_ms;
-    options.synchronous = settings_.synchronous;
-    storage::Connection connection(store_.path(), options);
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      live_connection_ = &connection;
-    }
-    struct Unregister {
-      JobService* self;
-      ~Unregister() {
-        std::lock_guard<std::mutex> lock(self->mutex_);
-        self->live_connection_ = nullptr;
-      }
-    } unregister{this};
-    const auto progress = [&](std::string_view stage, double fraction) {
-      if (interrupt_) throw Error(ErrorCode::kOverloaded, kInterrupted);
-      std::lock_guard<std::mutex> lock(mutex_);
-      live_stage_ = std::string(stage);
-      live_progress_ = fraction;
-    };
-    const auto before_commit = [&](storage::Connection& c, const storage::ForgetReport& report) {
-      // Recorded with the deletions: a kill after this commit finds the job done (or, with a vacuum still to run,
-      // 'running' in stage vacuum with the committed result, which start-up marks failed/interrupted).
-      const Json r = report.ToJson();
-      if (request.policy.vacuum) SetJobStatus(c, id, "running", "vacuum", 0.9, &r, nullptr);
-      else SetJobStatus(c, id, "succeeded", "done", 1.0, &r, nullptr);
-    };
-    const storage::ForgetReport report =
-        storage::Forget(connection, map, request.policy, request.now_ns.value_or(NowNs()), request.dry_run, progress,
-                        before_commit);
-    committed = report.committed;
-    result = report.ToJson();
-    if (request.dry_run || request.policy.vacuum) {
-      store_.Write([&](storage::Connection& c) { SetJobStatus(c, id, "succeeded", "done", 1.0, &result, nullptr); });
-    }
+      cancel_ = false;
+      if (!kind) throw Error(ErrorCode::kInternal, "no runner for job kind '" + r->kind + "'");
+      SetStatus(c, id, JobStatus::kRunning, kind->first_stage, 0.0, nullptr, nullptr);
+      return r;
+    });
+    if (!job) return;
+    Context context(*this, *job);
+    const std::optional<std::string> result = kind->run(context);
+    if (result) store_.Write([&](storage::Connection& c) { SetStatus(c, id, JobStatus::kSucceeded, "done", 1.0, &*result, nullptr); });
   } catch (const std::exception& e) {
-    std::string message = e.what();
-    if (interrupt_) message = kInterrupted;
-    try {
-      // The forgetting commit stores the result with the deletions; a result means they happened (a vacuum failed).
-      committed = committed || store_.Read([&](storage::Connection& c) {
-        const auto r = storage::FindJob(c, id);
-        return r && r->result_json.has_value();
-      });
-    } catch (const std::exception&) {
-    }
-    if (committed) message += " (after the deletions were committed: see result)";
-    try {
-      store_.Write([&](storage::Connection& c) {
-        std::string stage;
-        {
-          std::lock_guard<std::mutex> lock(mutex_);
-          stage = live_stage_;
-        }
-        SetJobStatus(c, id, "failed", stage, 1.0, nullptr, &message);
-      });
-    } catch (const std::exception&) {
-      // The job row cannot be updated (the database is gone or read-only): start-up marks it interrupted.
-    }
+    Fail(id, kind.get(), e.what());
   }
 }
 
-void JobService::RunBackup(std::int64_t id, const std::string& file) {
-  const storage::BackupReport report =
-      storage::Backup(store_.path(), file, settings_.busy_timeout_ms, [&](double fraction) {
-        if (interrupt_) throw Error(ErrorCode::kOverloaded, kInterrupted);
+void JobService::Fail(std::int64_t id, const JobKind* kind, const std::string& what) {
+  std::string message = interrupt_ ? kInterrupted : cancel_ ? kCancelled : what;
+  try {
+    // A runner records its result with the work it describes; a result means that work was committed.
+    const bool has_result = store_.Read([&](storage::Connection& c) {
+      const auto r = storage::FindJob(c, id);
+      return r && r->result_json.has_value();
+    });
+    if (has_result && kind) message += kind->note_when_failed_after_result;
+  } catch (const std::exception&) {
+  }
+  try {
+    store_.Write([&](storage::Connection& c) {
+      std::string stage;
+      {
         std::lock_guard<std::mutex> lock(mutex_);
-        live_progress_ = 0.95 * fraction;  // the integrity check and the sync come after the copy
-      });
-  const Json result = report.ToJson();
-  store_.Write([&](storage::Connection& c) { SetJobStatus(c, id, "succeeded", "done", 1.0, &result, nullptr); });
+        stage = live_stage_;
+      }
+      SetStatus(c, id, JobStatus::kFailed, stage, 1.0, nullptr, &message);
+    });
+  } catch (const std::exception&) {
+    // The job row cannot be updated (the database is gone or read-only): start-up marks it interrupted.
+  }
 }
 
 }  // namespace anchordb::services

@@ -1,7 +1,8 @@
 #pragma once
 // Long work as jobs (SPEC §3 "Jobs", §5 "long work returns 202 with a job"): persisted in the jobs table, run one at a
-// time in submission order by one worker thread. Kinds: "forget" (storage/forgetting.h) and "backup"
-// (storage/backup.h: an online copy of the file; a kill leaves no copy under the final name, only a ".partial").
+// time in submission order by one worker thread. Kinds are registered (services/jobs/job_registry.h); built in:
+// "forget" (storage/forgetting.h) and "backup" (storage/backup.h: an online copy of the file; a kill leaves no copy
+// under the final name, only a ".partial").
 //
 // - Submit validates synchronously: bad input throws (nothing is queued), an unknown map is 404, a full queue 503.
 // - The forgetting transaction records the job's outcome in the same commit as the deletions, so a job is either
@@ -14,18 +15,20 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
 
-#include "schema/json_io.h"
+#include "schema/clock.h"
+#include "services/jobs/job_registry.h"
+#include "services/jobs/job_types.h"
+#include "storage/forget_policy.h"
 #include "storage/sqlite.h"
 #include "storage/store.h"
-#include "services/common/transitional_json.h"
 
 namespace anchordb::services {
-
 
 struct JobSettings {
   int max_queued = 16;               // more queued jobs: 503
@@ -36,44 +39,60 @@ struct JobSettings {
 
 class JobService {
  public:
-  explicit JobService(storage::Store& store, JobSettings settings = {});
+  explicit JobService(storage::Store& store, JobSettings settings = {}, const Clock& clock = SystemClock::Instance());
   ~JobService();
   JobService(const JobService&) = delete;
   JobService& operator=(const JobService&) = delete;
 
-  // Body {"policy": {...}, "dry_run": bool}; returns {"job", "status": "queued", "kind", "map"}.
-  Json SubmitForget(const std::string& map, const Json& body);
-  // Body {"label"?: id}: an online copy of the whole database into settings.backup_dir (storage/backup.h); the
-  // job's result names the file. Returns {"job", "status": "queued", "kind": "backup", "request": {"file"}}.
-  Json SubmitBackup(const Json& body);
-  // {id, kind, map, status, stage, progress, request, result, error, created_ns, updated_ns}; unknown id: 404.
-  Json Get(std::int64_t id);
+  // Adds a kind (Error kConflict when its name is taken). Jobs of it may be submitted from then on.
+  void Register(JobKind kind);
+
+  // Queues a job of a registered kind with its request document. Unknown kind: kInvalidArgument ("kind"); the kind's
+  // check throws on bad input; unknown map: kNotFound; a full queue or a stopping server: kOverloaded.
+  JobTicket Submit(const std::string& kind, const std::optional<std::string>& map, const std::string& request_json);
+  // A forgetting run over `map` (storage/forgetting.h). Ages negative or over 100 years, a relevance outside
+  // [0, 1] or a `now` in the future: kUnprocessable naming "policy.<name>" or "now".
+  JobTicket SubmitForget(const std::string& map, const storage::ForgetRequest& request);
+  // An online copy of the whole database into settings.backup_dir; the job's request and result name the file.
+  // A label that is not an id: kInvalidArgument ("label"); no backup_dir: kUnprocessable ("backup_dir").
+  JobTicket SubmitBackup(const BackupRequest& request);
+  // Unknown id: kNotFound.
+  JobView Get(std::int64_t id);
+  // Stops a queued or running job: it fails with the error "cancelled" (a running one at its next progress report or
+  // interrupted statement). False when the job had finished already; unknown id: kNotFound.
+  bool Cancel(std::int64_t id);
   // Jobs marked failed at start-up because a server stop interrupted them.
   int interrupted_at_start() const { return interrupted_at_start_; }
   // Blocks until no job is queued or running (tests); false on timeout.
   bool WaitIdle(double timeout_s);
 
  private:
+  class Context;
   // Reserves a queue slot, writes the queued row (map checked when given) and wakes the worker; returns its id.
-  std::int64_t Enqueue(const std::string& kind, const std::optional<std::string>& map, const Json& request);
+  std::int64_t Enqueue(const std::string& kind, const std::optional<std::string>& map, const std::string& request_json);
   void Worker();
   void RunJob(std::int64_t id);
-  void RunBackup(std::int64_t id, const std::string& file);
+  void Fail(std::int64_t id, const JobKind* kind, const std::string& what);
+  void SetStatus(storage::Connection& c, std::int64_t id, JobStatus status, const std::string& stage, double progress,
+                 const std::string* result_json, const std::string* error) const;
 
   storage::Store& store_;
   JobSettings settings_;
+  const Clock& clock_;
   int interrupted_at_start_ = 0;
   std::mutex mutex_;
+  JobRegistry registry_;  // guarded by mutex_
   std::condition_variable wake_;
   std::condition_variable idle_;
   bool stop_ = false;
-  std::atomic<bool> interrupt_{false};
+  std::atomic<bool> interrupt_{false};  // the server stops
+  std::atomic<bool> cancel_{false};     // the live job is cancelled
   int pending_ = 0;  // queued + running, as this process knows them
   int reserved_ = 0;  // submissions whose job row is being written (count against max_queued, not yet for the worker)
   std::int64_t live_id_ = 0;
   std::string live_stage_;
   double live_progress_ = 0.0;
-  storage::Connection* live_connection_ = nullptr;  // for sqlite3_interrupt on stop
+  storage::Connection* live_connection_ = nullptr;  // for sqlite3_interrupt on stop or cancel
   std::thread worker_;
 };
 

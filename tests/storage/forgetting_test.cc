@@ -1,6 +1,6 @@
 // Forgetting (storage/forgetting.h) on a real SQLite file: what goes, what a live reference keeps, dry runs and
-// aborted runs change nothing, no dangling reference afterwards; the request is validated strictly. (Incremental
-// vacuum: forgetting_vacuum_test.cc; the job service around forgetting: tests/api/job_service_test.cc.)
+// aborted runs change nothing, no dangling reference afterwards. (The request: tests/api/job_json_test.cc; incremental
+// vacuum: forgetting_vacuum_test.cc; the job service around forgetting: tests/services/job_service_test.cc.)
 // Suite names are lower case so that `ctest -R forget` selects them.
 #include "storage/forgetting.h"
 
@@ -207,61 +207,6 @@ TEST_F(forgetting, UnknownMapAndOpenTransactionAreRefused) {
   conn.Exec("BEGIN");
   EXPECT_THROW(Forget(conn, "home", {}, kNow, false), Error);
   conn.Exec("ROLLBACK");
-}
-
-Error ParseError(const std::string& text) {
-  try {
-    ParseForgetRequest(nlohmann::json::parse(text));
-  } catch (const Error& e) {
-    return e;
-  }
-  return Error(ErrorCode::kInternal, "no error for " + text);
-}
-
-TEST(forgetting_policy, ParsesDefaultsAndValidatesStrictly) {
-  const ForgetRequest defaults = ParseForgetRequest(nlohmann::json::object());
-  EXPECT_FALSE(defaults.dry_run);
-  EXPECT_TRUE(defaults.policy.drop_superseded);
-  EXPECT_EQ(defaults.policy.keyframe_max_age_s, 7 * 86400.0);
-  EXPECT_EQ(defaults.policy.event_max_age_s, 30 * 86400.0);
-  EXPECT_EQ(defaults.policy.keep_relevance_at_least, 0.5);
-  EXPECT_FALSE(defaults.policy.vacuum);
-  const ForgetRequest r = ParseForgetRequest(nlohmann::json::parse(
-      R"({"policy": {"superseded_models": false, "keyframe_max_age_s": 60, "keep_relevance_at_least": 1,
-          "event_max_age_s": null, "vacuum": true}, "dry_run": true})"));
-  EXPECT_TRUE(r.dry_run);
-  EXPECT_FALSE(r.policy.drop_superseded);
-  EXPECT_EQ(r.policy.keyframe_max_age_s, 60.0);
-  EXPECT_FALSE(r.policy.event_max_age_s);
-  EXPECT_EQ(r.policy.keep_relevance_at_least, 1.0);
-  EXPECT_TRUE(r.policy.vacuum);
-  // Round trip of the stored form.
-  EXPECT_EQ(ParseForgetRequest({{"policy", ToJson(r.policy)}, {"dry_run", true}}).policy.keyframe_max_age_s, 60.0);
-
-  struct Case {
-    const char* body;
-    ErrorCode code;
-    const char* field;
-  };
-  const Case cases[] = {
-      {R"({"policy": {"keyframe_max_age_s": -1}})", ErrorCode::kUnprocessable, "policy.keyframe_max_age_s"},
-      {R"({"policy": {"event_max_age_s": -0.5}})", ErrorCode::kUnprocessable, "policy.event_max_age_s"},
-      {R"({"policy": {"event_max_age_s": 1e12}})", ErrorCode::kUnprocessable, "policy.event_max_age_s"},
-      {R"({"policy": {"keep_relevance_at_least": 1.5}})", ErrorCode::kUnprocessable, "policy.keep_relevance_at_least"},
-      {R"({"policy": {"keep_relevance_at_least": -0.1}})", ErrorCode::kUnprocessable, "policy.keep_relevance_at_least"},
-      {R"({"policy": {"keyframes": 1}})", ErrorCode::kInvalidArgument, "policy.keyframes"},
-      {R"({"polcy": {}})", ErrorCode::kInvalidArgument, "polcy"},
-      {R"({"policy": {"keyframe_max_age_s": "7d"}})", ErrorCode::kInvalidArgument, "policy.keyframe_max_age_s"},
-      {R"({"policy": {"vacuum": 1}})", ErrorCode::kInvalidArgument, "policy.vacuum"},
-      {R"({"policy": {"superseded_models": "yes"}})", ErrorCode::kInvalidArgument, "policy.superseded_models"},
-      {R"({"policy": [1]})", ErrorCode::kInvalidArgument, "policy"},
-      {R"({"dry_run": "true"})", ErrorCode::kInvalidArgument, "dry_run"},
-  };
-  for (const Case& c : cases) {
-    const Error e = ParseError(c.body);
-    EXPECT_EQ(e.code(), c.code) << c.body << ": " << e.what();
-    EXPECT_EQ(e.field(), c.field) << c.body;
-  }
 }
 
 }  // namespace

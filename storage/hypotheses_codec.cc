@@ -1,12 +1,13 @@
 // The stored form of a furniture graph's live n-best hypotheses (a versioned f64 blob).
+#include "storage/hypotheses_codec.h"
+
 #include <cmath>
 #include <cstring>
 
-#include "services/furniture/furniture_service.h"
 #include "schema/error.h"
 #include "storage/blob_codec.h"
 
-namespace anchordb::services {
+namespace anchordb::storage {
 
 namespace g = engine::grounding;
 
@@ -35,15 +36,15 @@ std::string EncodeHypotheses(const g::FurnitureGraph& graph, const g::Hypothesis
     v.insert(v.end(), h.state.orientation.begin(), h.state.orientation.end());
     v.insert(v.end(), h.state.relation.begin(), h.state.relation.end());
   }
-  return storage::EncodeBlob(storage::BlobElement::kF64, {static_cast<std::uint32_t>(v.size())}, storage::AsBytes(v));
+  return EncodeBlob(BlobElement::kF64, {static_cast<std::uint32_t>(v.size())}, AsBytes(v));
 }
 
-g::HypothesisSet DecodeHypotheses(const g::FurnitureGraph& graph, const std::string& blob) {
-  const storage::DecodedBlob d = storage::DecodeBlob(blob);
+g::HypothesisSet DecodeHypotheses(const g::FurnitureGraph& graph, std::string_view blob) {
+  const DecodedBlob d = DecodeBlob(blob);
   const auto corrupt = [](const std::string& what) {
     return Error(ErrorCode::kInternal, "stored furniture-graph hypotheses are corrupt: " + what);
   };
-  if (d.element != storage::BlobElement::kF64 || d.bytes.size() % sizeof(double) != 0) throw corrupt("not an f64 array");
+  if (d.element != BlobElement::kF64 || d.bytes.size() % sizeof(double) != 0) throw corrupt("not an f64 array");
   std::vector<double> v(d.bytes.size() / sizeof(double));
   std::memcpy(v.data(), d.bytes.data(), d.bytes.size());
   std::size_t at = 0;
@@ -101,4 +102,4 @@ g::HypothesisSet DecodeHypotheses(const g::FurnitureGraph& graph, const std::str
   return set;
 }
 
-}  // namespace anchordb::services
+}  // namespace anchordb::storage

@@ -1,0 +1,55 @@
+// The "backup" job kind, its stored request ({"file": path}, a JSON document of the jobs table) and
+// JobService::SubmitBackup.
+#include "services/jobs/backup_job.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+
+#include "schema/error.h"
+#include "schema/json_io.h"
+#include "storage/backup.h"
+
+namespace anchordb::services {
+namespace {
+
+using Json = nlohmann::json;
+
+std::string FileOf(const std::string& request) {
+  const Json j = Json::parse(request, nullptr, false);
+  if (!j.is_object() || !j.contains("file") || !j["file"].is_string()) {
+    throw Error(ErrorCode::kInvalidArgument, "a backup request names its file", "file");
+  }
+  return j["file"].get<std::string>();
+}
+
+}  // namespace
+
+JobKind BackupJobKind(const std::string& db_path, const JobSettings& settings) {
+  JobKind kind;
+  kind.name = "backup";
+  kind.first_stage = "copying";
+  kind.check = [dir = settings.backup_dir](const JobSubmission& s) {
+    if (dir.empty()) throw Error(ErrorCode::kUnprocessable, "this server has no backup_dir", "backup_dir");
+    const std::filesystem::path file = FileOf(s.request);
+    if (std::filesystem::path(dir) / file.filename() != file) {
+      throw Error(ErrorCode::kInvalidArgument, "a backup goes into the server's backup_dir", "file");
+    }
+  };
+  kind.run = [db_path, timeout_ms = settings.busy_timeout_ms](JobContext& job) -> std::optional<std::string> {
+    const storage::BackupReport report = storage::Backup(db_path, FileOf(job.request()), timeout_ms, [&](double fraction) {
+      job.Progress(0.95 * fraction);  // the integrity check and the sync come after the copy
+    });
+    return report.ToJson().dump();
+  };
+  return kind;
+}
+
+JobTicket JobService::SubmitBackup(const BackupRequest& request) {
+  if (!request.label.empty()) json::CheckId(request.label, "label");  // it becomes part of a file name
+  if (settings_.backup_dir.empty()) throw Error(ErrorCode::kUnprocessable, "this server has no backup_dir", "backup_dir");
+  const std::string file = storage::BackupFileName(settings_.backup_dir, store_.path(), clock_.NowNs(), request.label);
+  return Submit("backup", std::nullopt, Json{{"file", file}}.dump());
+}
+
+}  // namespace anchordb::services

@@ -1,0 +1,102 @@
+// The "forget" job kind, its stored request (a JSON document of the jobs table) and JobService::SubmitForget.
+#include "services/jobs/forget_job.h"
+
+#include <nlohmann/json.hpp>
+
+#include "schema/error.h"
+#include "storage/forgetting.h"
+
+namespace anchordb::services {
+namespace {
+
+using Json = nlohmann::json;
+
+constexpr double kMaxAgeS = 100.0 * 365.25 * 86400.0;  // keeps now - age representable in int64 nanoseconds
+
+void CheckAge(const std::optional<double>& age_s, const std::string& field) {
+  if (!age_s) return;
+  if (!(*age_s >= 0.0)) throw Error(ErrorCode::kUnprocessable, field + " must not be negative (seconds)", field);
+  if (*age_s > kMaxAgeS) throw Error(ErrorCode::kUnprocessable, field + " must be at most 100 years in seconds", field);
+}
+
+std::string EncodeForgetRequest(const storage::ForgetRequest& r) {
+  Json stored = {{"policy", storage::ToJson(r.policy)}, {"dry_run", r.dry_run}};
+  if (r.now_ns) stored["now"] = *r.now_ns;
+  return stored.dump();
+}
+
+std::optional<double> AgeOf(const Json& policy, const char* key) {
+  const Json& v = policy.at(key);
+  return v.is_null() ? std::nullopt : std::optional<double>(v.get<double>());
+}
+
+storage::ForgetRequest DecodeForgetRequest(const std::string& text) {
+  try {
+    const Json j = Json::parse(text);
+    storage::ForgetRequest r;
+    const Json& p = j.at("policy");
+    r.policy.drop_superseded = p.at("superseded_models").get<bool>();
+    r.policy.keyframe_max_age_s = AgeOf(p, "keyframe_max_age_s");
+    r.policy.keep_relevance_at_least = p.at("keep_relevance_at_least").get<double>();
+    r.policy.event_max_age_s = AgeOf(p, "event_max_age_s");
+    r.policy.vacuum = p.at("vacuum").get<bool>();
+    r.dry_run = j.at("dry_run").get<bool>();
+    if (j.contains("now")) r.now_ns = j.at("now").get<std::int64_t>();
+    return r;
+  } catch (const Json::exception& e) {
+    throw Error(ErrorCode::kInvalidArgument, std::string("not a forgetting request: ") + e.what(), "request");
+  }
+}
+
+std::optional<std::string> RunForget(JobContext& job, const std::string& db_path, const JobSettings& settings) {
+  const storage::ForgetRequest request = DecodeForgetRequest(job.request());
+  storage::ConnectionOptions options;
+  options.busy_timeout_ms = settings.busy_timeout_ms;
+  options.synchronous = settings.synchronous;
+  storage::Connection connection(db_path, options);
+  InterruptibleScope interruptible(job, connection);
+  const auto progress = [&](std::string_view stage, double fraction) { job.Progress(stage, fraction); };
+  const auto before_commit = [&](storage::Connection& c, const storage::ForgetReport& report) {
+    // Recorded with the deletions: a kill after this commit finds the job done (or, with a vacuum still to run,
+    // 'running' in stage vacuum with the committed result, which start-up marks failed/interrupted).
+    const std::string result = report.ToJson().dump();
+    if (request.policy.vacuum) job.Record(c, JobStatus::kRunning, "vacuum", 0.9, &result);
+    else job.Record(c, JobStatus::kSucceeded, "done", 1.0, &result);
+  };
+  const storage::ForgetReport report = storage::Forget(connection, job.map().value_or(""), request.policy,
+                                                       request.now_ns.value_or(job.NowNs()), request.dry_run, progress,
+                                                       before_commit);
+  if (request.dry_run || request.policy.vacuum) return report.ToJson().dump();
+  return std::nullopt;  // recorded with the deletions
+}
+
+}  // namespace
+
+void CheckForgetRequest(const storage::ForgetRequest& request, std::int64_t wall_now_ns) {
+  if (request.now_ns && *request.now_ns > wall_now_ns) {
+    throw Error(ErrorCode::kUnprocessable, "now must not lie in the future", "now");
+  }
+  CheckAge(request.policy.keyframe_max_age_s, "policy.keyframe_max_age_s");
+  CheckAge(request.policy.event_max_age_s, "policy.event_max_age_s");
+  const double relevance = request.policy.keep_relevance_at_least;
+  if (!(relevance >= 0.0 && relevance <= 1.0)) {
+    throw Error(ErrorCode::kUnprocessable, "policy.keep_relevance_at_least must be in [0, 1]", "policy.keep_relevance_at_least");
+  }
+}
+
+JobKind ForgetJobKind(const std::string& db_path, const JobSettings& settings) {
+  JobKind kind;
+  kind.name = "forget";
+  kind.first_stage = "forgetting";
+  kind.needs_map = true;
+  kind.check = [](const JobSubmission& s) { CheckForgetRequest(DecodeForgetRequest(s.request), s.now_ns); };
+  kind.run = [db_path, settings](JobContext& job) { return RunForget(job, db_path, settings); };
+  kind.note_when_failed_after_result = " (after the deletions were committed: see result)";
+  return kind;
+}
+
+JobTicket JobService::SubmitForget(const std::string& map, const storage::ForgetRequest& request) {
+  return Submit("forget", map, EncodeForgetRequest(request));
+}
+
+}  // namespace anchordb::services

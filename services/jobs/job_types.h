@@ -1,0 +1,42 @@
+#pragma once
+// Typed requests and results of JobService. A job's request and result are documents the database keeps (JSON text
+// in the jobs table, each kind's own format); they pass through here as that text.
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "storage/forget_policy.h"
+
+namespace anchordb::services {
+
+enum class JobStatus { kQueued, kRunning, kSucceeded, kFailed };
+// "queued", "running", "succeeded", "failed" (as stored and served).
+const char* JobStatusId(JobStatus status);
+
+// An online copy of the whole database into the server's backup_dir (storage/backup.h).
+struct BackupRequest {
+  std::string label;  // empty, or an id (1-64 of [A-Za-z0-9_.-]) that becomes part of the file name
+};
+
+// A job just queued.
+struct JobTicket {
+  std::int64_t job = 0;
+  std::string kind;
+  std::optional<std::string> map;  // none for jobs over the whole file (backups)
+  std::string request_json;        // the request as stored
+};
+
+struct JobView {
+  std::int64_t id = 0;
+  std::string kind;
+  std::optional<std::string> map;
+  JobStatus status = JobStatus::kQueued;
+  std::string stage;
+  double progress = 0.0;  // [0, 1]; of the running job, the live value
+  std::string request_json;
+  std::optional<std::string> result_json;
+  std::optional<std::string> error;
+  std::int64_t created_ns = 0, updated_ns = 0;
+};
+
+}  // namespace anchordb::services

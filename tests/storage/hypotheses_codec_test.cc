@@ -1,0 +1,44 @@
+// The stored form of a furniture graph's hypotheses: a round trip keeps every hypothesis; a blob of another graph's
+// shape or a corrupted one is refused.
+#include "storage/hypotheses_codec.h"
+
+#include <gtest/gtest.h>
+
+#include "schema/error.h"
+
+namespace anchordb::storage {
+namespace {
+
+namespace g = engine::grounding;
+
+TEST(HypothesesCodec, RoundTripsAndRejectsCorruption) {
+  const g::Knowledge& k = g::DefaultKnowledge();
+  const std::vector<double> pf(10, 0.1);
+  const g::FurnitureGraph graph = g::BuildFurnitureGraph(
+      {{0, 0}, 0}, {{"a", {2, 0}, {0.5, 0.5}, 0, pf}, {"b", {2, 1}, {0.5, 0.5}, 0, pf}, {"c", {3, 0}, {0.5, 0.5}, 0, pf}}, 10, {});
+  g::GroundingParams params;
+  params.n_best = 7;
+  g::HypothesisSet set = g::InitialHypotheses(graph);
+  set = g::Ground(graph, k, set, {0, g::Relation::kLeftOf, 1}, params);
+  set = g::Ground(graph, k, set, {2, g::Relation::kBehind, 0}, params);
+  const g::HypothesisSet back = DecodeHypotheses(graph, EncodeHypotheses(graph, set));
+  ASSERT_EQ(back.ranked.size(), set.ranked.size());
+  EXPECT_EQ(back.step, 2);
+  EXPECT_EQ(back.next_id, set.next_id);
+  for (std::size_t i = 0; i < set.ranked.size(); ++i) {
+    EXPECT_EQ(back.ranked[i].id, set.ranked[i].id);
+    EXPECT_EQ(back.ranked[i].score, set.ranked[i].score);
+    EXPECT_EQ(back.ranked[i].scheme, set.ranked[i].scheme);
+    EXPECT_EQ(back.ranked[i].state, set.ranked[i].state);
+    EXPECT_EQ(back.ranked[i].lineage_ranks, set.ranked[i].lineage_ranks);
+  }
+  const g::FurnitureGraph other = g::BuildFurnitureGraph({{0, 0}, 0}, {{"a", {2, 0}, {0.5, 0.5}, 0, pf}, {"b", {2, 1}, {0.5, 0.5}, 0, pf}}, 10, {});
+  EXPECT_THROW(DecodeHypotheses(other, EncodeHypotheses(graph, set)), Error);
+  std::string blob = EncodeHypotheses(graph, set);
+  blob[blob.size() / 2] ^= 0x5a;
+  EXPECT_THROW(DecodeHypotheses(graph, blob), Error);
+  EXPECT_THROW(DecodeHypotheses(graph, ""), Error);
+}
+
+}  // namespace
+}  // namespace anchordb::storage
