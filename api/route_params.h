@@ -3,6 +3,8 @@
 // parameter's name as the field.
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <optional>
 #include <string>
 
@@ -66,5 +68,38 @@ inline std::optional<std::string> QueryChoice(const httplib::Request& req, const
 }
 
 inline Json BodyObject(const httplib::Request& req) { return req.body.empty() ? Json::object() : json::ParseObject(req.body); }
+
+// A finite number, or nullopt when absent.
+inline std::optional<double> OptionalQueryNumber(const httplib::Request& req, const std::string& name) {
+  if (!req.has_param(name)) return std::nullopt;
+  const std::string text = req.get_param_value(name);
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v)) {
+    throw Error(ErrorCode::kInvalidArgument, name + " must be a finite number", name);
+  }
+  return v;
+}
+
+// true | 1 | false | 0; false when absent.
+inline bool QueryBool(const httplib::Request& req, const std::string& name) {
+  if (!req.has_param(name)) return false;
+  const std::string v = req.get_param_value(name);
+  if (v == "true" || v == "1") return true;
+  if (v == "false" || v == "0") return false;
+  throw Error(ErrorCode::kInvalidArgument, name + " must be true or false", name);
+}
+
+// A point "x,y,z" [m] of finite numbers, or nullopt when absent.
+inline std::optional<Eigen::Vector3d> QueryPoint3(const httplib::Request& req, const std::string& name) {
+  if (!req.has_param(name)) return std::nullopt;
+  double v[3];
+  char tail = 0;
+  if (std::sscanf(req.get_param_value(name).c_str(), "%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &tail) != 3 ||
+      !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
+    throw Error(ErrorCode::kInvalidArgument, name + " must be x,y,z in metres", name);
+  }
+  return Eigen::Vector3d(v[0], v[1], v[2]);
+}
 
 }  // namespace anchordb::api::params
