@@ -34,6 +34,13 @@ SceneInfo InfoFromRecord(const storage::SceneRecord& r) {
   return info;
 }
 
+storage::KeyframeRecord RequireKeyframe(storage::Connection& c, const std::string& map, std::int64_t id, bool with_images) {
+  RequireMap(c, map);
+  auto k = storage::FindKeyframe(c, map, id, with_images);
+  if (!k) throw Error(ErrorCode::kNotFound, "keyframe " + std::to_string(id) + " does not exist in map '" + map + "'", "keyframe");
+  return std::move(*k);
+}
+
 void RequireCleanable(SceneLayerKind layer, bool clean) {
   if (clean && layer != SceneLayerKind::kMovable && layer != SceneLayerKind::kDynamic) {
     throw Error(ErrorCode::kInvalidArgument, "clean applies to the movable layer only", "clean");
@@ -145,15 +152,6 @@ std::vector<SceneInfo> SceneService::List(const std::string& map, const SceneLis
     return out;
   });
 }
-
-namespace {
-storage::KeyframeRecord RequireKeyframe(storage::Connection& c, const std::string& map, std::int64_t id, bool with_images) {
-  RequireMap(c, map);
-  auto k = storage::FindKeyframe(c, map, id, with_images);
-  if (!k) throw Error(ErrorCode::kNotFound, "keyframe " + std::to_string(id) + " does not exist in map '" + map + "'", "keyframe");
-  return std::move(*k);
-}
-}  // namespace
 
 KeyframeInfo SceneService::GetKeyframe(const std::string& map, std::int64_t id) {
   const storage::KeyframeRecord k = store_.Read([&](storage::Connection& c) { return RequireKeyframe(c, map, id, false); });
