@@ -137,4 +137,25 @@ inline std::optional<storage::Bbox> QueryBbox(const httplib::Request& req, const
   return storage::Bbox{v[0], v[1], v[2], v[3]};
 }
 
+// true | 1 | false | 0; false when absent.
+inline bool QueryBool(const httplib::Request& req, const std::string& name) {
+  if (!req.has_param(name)) return false;
+  const std::string v = req.get_param_value(name);
+  if (v == "true" || v == "1") return true;
+  if (v == "false" || v == "0") return false;
+  throw Error(ErrorCode::kInvalidArgument, name + " must be true or false", name);
+}
+
+// A point "x,y,z" [m] of finite numbers, or nullopt when absent.
+inline std::optional<Eigen::Vector3d> QueryPoint3(const httplib::Request& req, const std::string& name) {
+  if (!req.has_param(name)) return std::nullopt;
+  double v[3];
+  char tail = 0;
+  if (std::sscanf(req.get_param_value(name).c_str(), "%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &tail) != 3 ||
+      !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
+    throw Error(ErrorCode::kInvalidArgument, name + " must be x,y,z in metres", name);
+  }
+  return Eigen::Vector3d(v[0], v[1], v[2]);
+}
+
 }  // namespace anchordb::api::params

@@ -1,132 +1,125 @@
-// Routes of scene models and keyframes: parse, call SceneService, serialise.
+// Routes of scene models and keyframes: parse, call SceneService, serialise (api/scene_json.h).
 #include "api/scene_routes.h"
+
 #include <cmath>
 
-#include "api/http_api.h"
+#include "api/route_params.h"
+#include "api/scene_json.h"
 #include "schema/error.h"
 
 namespace anchordb::api {
 
 using namespace anchordb::services;
+using namespace params;
+using namespace scene_json;
+
 namespace {
 
-Response JsonResponse(const Json& j, int status = 200) { return {status, "application/json", j.dump(), {}}; }
-
-std::int64_t IdParam(const PathParams& p, const std::string& name) {
-  const std::string& text = p[name];
-  if (text.empty() || text.size() > 18 || text.find_first_not_of("0123456789") != std::string::npos) {
-    throw Error(ErrorCode::kNotFound, name + " '" + text + "' does not exist (ids are integers)", name);
-  }
-  return std::stoll(text);
-}
-
-std::optional<double> OptionalQueryNumber(const httplib::Request& req, const std::string& name) {
-  if (!req.has_param(name)) return std::nullopt;
-  const std::string text = req.get_param_value(name);
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v)) {
-    throw Error(ErrorCode::kInvalidArgument, name + " must be a finite number", name);
-  }
-  return v;
-}
-
-std::optional<std::int64_t> QueryStamp(const httplib::Request& req) {
-  if (!req.has_param("stamp")) return std::nullopt;
-  const std::string text = req.get_param_value("stamp");
-  if (!text.empty() && text.find_first_not_of("0123456789") == std::string::npos && text.size() <= 19) return std::stoll(text);
-  return json::AsStampNs(Json(text), "stamp");
-}
-
-bool QueryBool(const httplib::Request& req, const std::string& name) {
-  if (!req.has_param(name)) return false;
-  const std::string v = req.get_param_value(name);
-  if (v == "true" || v == "1") return true;
-  if (v == "false" || v == "0") return false;
-  throw Error(ErrorCode::kInvalidArgument, name + " must be true or false", name);
-}
+std::int64_t SceneId(const PathParams& p) { return PathId(p, "scene", "scene"); }
+std::int64_t KeyframeId(const PathParams& p) { return PathId(p, "keyframe", "keyframe"); }
 
 bool IsPngType(const std::string& content_type) { return content_type.rfind("image/png", 0) == 0; }
 bool IsRawType(const std::string& content_type) { return content_type.rfind("application/octet-stream", 0) == 0; }
+
+// near=x,y,z&radius= (default 1 m), status=, limit= (1..1000, default 100).
+SceneListFilter ParseListQuery(const httplib::Request& req) {
+  SceneListFilter f;
+  f.near_m = QueryPoint3(req, "near");
+  if (f.near_m) {
+    f.radius_m = OptionalQueryNumber(req, "radius").value_or(1.0);
+    if (f.radius_m < 0) throw Error(ErrorCode::kUnprocessable, "radius must not be negative", "radius");
+  }
+  if (req.has_param("status")) {
+    f.status = ValueOf(kSceneStatusNames, req.get_param_value("status"));
+    if (!f.status) throw Error(ErrorCode::kInvalidArgument, "status must be observing, closed or superseded", "status");
+  }
+  const double limit = OptionalQueryNumber(req, "limit").value_or(100);
+  if (limit < 1 || limit > 1000 || limit != std::floor(limit)) throw Error(ErrorCode::kUnprocessable, "limit must be an integer in [1, 1000]", "limit");
+  f.limit = static_cast<int>(limit);
+  return f;
+}
+
+// The body (PNG, raw) or the multipart parts depth and dynamic; stamp= and depth_scale= from the query. The views
+// point into `req`.
+FrameInput ParseFrame(const httplib::Request& req) {
+  FrameInput in;
+  in.stamp_ns = QueryTime(req, "stamp");
+  in.depth_scale = OptionalQueryNumber(req, "depth_scale");
+  const std::string type = req.get_header_value("Content-Type");
+  if (req.is_multipart_form_data()) {
+    if (!req.has_file("depth")) throw Error(ErrorCode::kInvalidArgument, "multipart part 'depth' is missing", "depth");
+    const auto& depth = req.files.find("depth")->second;
+    in.body = depth.content;
+    in.png = !IsRawType(depth.content_type);
+    if (req.has_file("dynamic")) in.dynamic_png = req.files.find("dynamic")->second.content;
+  } else if (IsPngType(type) || IsRawType(type)) {
+    in.body = req.body;
+    in.png = IsPngType(type);
+  } else {
+    throw Error(ErrorCode::kUnsupportedMediaType,
+                "frames are image/png, application/octet-stream or multipart/form-data; got '" + type + "'");
+  }
+  return in;
+}
+
+SceneLayerKind LayerKind(const PathParams& p) {
+  const auto kind = ValueOf(kSceneLayerNames, p["layer"]);
+  if (!kind) throw Error(ErrorCode::kNotFound, "scene layers are static, movable, dynamic and reliability", "layer");
+  return *kind;
+}
+
+std::string LayerFormat(const httplib::Request& req) {
+  const std::string format = req.has_param("format") ? req.get_param_value("format") : "png";
+  if (format != "png" && format != "raw" && format != "json") {
+    throw Error(ErrorCode::kInvalidArgument, "format must be png, raw or json", "format");
+  }
+  return format;
+}
+
+Response BytesResponse(ExportedLayer e) { return {200, e.content_type, std::move(e.body), std::move(e.headers)}; }
+
+Response SummaryResponse(const SceneLayerSummary& s) {
+  return {200, "application/json", LayerSummaryJson(s).dump(),
+          {{"X-Image-Width", std::to_string(s.width)}, {"X-Image-Height", std::to_string(s.height)},
+           {"X-Scene-Frames", std::to_string(s.frames)}}};
+}
 
 }  // namespace
 
 void RegisterSceneRoutes(Router& router, SceneService& s) {
   router.Add("POST", "/v1/maps/{map}/scenes", Role::kWriter,
       "Open a scene model at a camera pose (camera intrinsics, pose, params beta/dynamic_mode/depth_scale)",
-      [&s](const httplib::Request& req, const PathParams& p) { return JsonResponse(s.Open(p["map"], json::ParseObject(req.body)), 201); });
-  router.Add("GET", "/v1/maps/{map}/scenes", Role::kReader, "Scene models of a map, newest first (near=x,y,z&radius=, status=, limit=)",
       [&s](const httplib::Request& req, const PathParams& p) {
-        storage::SceneFilter f;
-        if (req.has_param("near")) {
-          double v[3];
-          char tail = 0;
-          if (std::sscanf(req.get_param_value("near").c_str(), "%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &tail) != 3 ||
-              !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
-            throw Error(ErrorCode::kInvalidArgument, "near must be x,y,z in metres", "near");
-          }
-          f.near_m = Eigen::Vector3d(v[0], v[1], v[2]);
-          f.radius_m = OptionalQueryNumber(req, "radius").value_or(1.0);
-          if (f.radius_m < 0) throw Error(ErrorCode::kUnprocessable, "radius must not be negative", "radius");
-        }
-        if (req.has_param("status")) {
-          const std::string status = req.get_param_value("status");
-          if (status != "observing" && status != "closed" && status != "superseded") {
-            throw Error(ErrorCode::kInvalidArgument, "status must be observing, closed or superseded", "status");
-          }
-          f.status = status;
-        }
-        const double limit = OptionalQueryNumber(req, "limit").value_or(100);
-        if (limit < 1 || limit > 1000 || limit != std::floor(limit)) throw Error(ErrorCode::kUnprocessable, "limit must be an integer in [1, 1000]", "limit");
-        f.limit = static_cast<int>(limit);
-        return JsonResponse(s.List(p["map"], f));
+        return JsonResponse(SceneJson(s.Open(p["map"], ParseOpenScene(json::ParseObject(req.body))), false), 201);
       });
+  router.Add("GET", "/v1/maps/{map}/scenes", Role::kReader, "Scene models of a map, newest first (near=x,y,z&radius=, status=, limit=)",
+      [&s](const httplib::Request& req, const PathParams& p) { return JsonResponse(SceneListJson(s.List(p["map"], ParseListQuery(req)))); });
   router.Add("GET", "/v1/maps/{map}/scenes/{scene}", Role::kReader, "A scene model: camera, pose, status, frames, keyframes",
-      [&s](const httplib::Request&, const PathParams& p) { return JsonResponse(s.Get(p["map"], IdParam(p, "scene"))); });
+      [&s](const httplib::Request&, const PathParams& p) { return JsonResponse(SceneJson(s.Get(p["map"], SceneId(p)), true)); });
   router.Add("POST", "/v1/maps/{map}/scenes/{scene}/frames", Role::kWriter,
       "One depth frame: image/png (16-bit), application/octet-stream (raw uint16 LE), or multipart parts depth + dynamic",
-      [&s](const httplib::Request& req, const PathParams& p) {
-        FrameInput in;
-        in.stamp_ns = QueryStamp(req);
-        in.depth_scale = OptionalQueryNumber(req, "depth_scale");
-        const std::string type = req.get_header_value("Content-Type");
-        if (req.is_multipart_form_data()) {
-          if (!req.has_file("depth")) throw Error(ErrorCode::kInvalidArgument, "multipart part 'depth' is missing", "depth");
-          const auto& depth = req.files.find("depth")->second;
-          in.body = depth.content;
-          in.png = !IsRawType(depth.content_type);
-          if (req.has_file("dynamic")) in.dynamic_png = req.files.find("dynamic")->second.content;
-        } else if (IsPngType(type) || IsRawType(type)) {
-          in.body = req.body;
-          in.png = IsPngType(type);
-        } else {
-          throw Error(ErrorCode::kUnsupportedMediaType,
-                      "frames are image/png, application/octet-stream or multipart/form-data; got '" + type + "'");
-        }
-        return JsonResponse(s.AddFrame(p["map"], IdParam(p, "scene"), in));
-      });
+      [&s](const httplib::Request& req, const PathParams& p) { return JsonResponse(FrameJson(s.AddFrame(p["map"], SceneId(p), ParseFrame(req)))); });
   router.Add("GET", "/v1/maps/{map}/scenes/{scene}/layers/{layer}", Role::kReader,
       "A scene layer (static, movable, dynamic, reliability) as png, raw or json; clean=true cleans the movable layer",
       [&s](const httplib::Request& req, const PathParams& p) {
-        const std::string format = req.has_param("format") ? req.get_param_value("format") : "png";
-        ExportedLayer e = s.Layer(p["map"], IdParam(p, "scene"), p["layer"], format, QueryBool(req, "clean"));
-        return Response{200, e.content_type, std::move(e.body), e.headers};
+        const bool clean = QueryBool(req, "clean");
+        const std::string format = LayerFormat(req);
+        const SceneLayerKind layer = LayerKind(p);
+        if (format == "json") return SummaryResponse(s.LayerSummary(p["map"], SceneId(p), layer, clean));
+        const auto encoding = format == "png" ? SceneLayerEncoding::kPng : SceneLayerEncoding::kRaw;
+        return BytesResponse(s.Layer(p["map"], SceneId(p), layer, encoding, clean));
       });
   router.Add("POST", "/v1/maps/{map}/scenes/{scene}/keyframes", Role::kWriter, "Store a keyframe of the scene now",
-      [&s](const httplib::Request&, const PathParams& p) { return JsonResponse(s.Keyframe(p["map"], IdParam(p, "scene")), 201); });
+      [&s](const httplib::Request&, const PathParams& p) { return JsonResponse(KeyframeJson(s.Keyframe(p["map"], SceneId(p))), 201); });
   router.Add("POST", "/v1/maps/{map}/scenes/{scene}:close", Role::kWriter, "End the observation: end keyframe, state persisted",
-      [&s](const httplib::Request&, const PathParams& p) { return JsonResponse(s.Close(p["map"], IdParam(p, "scene"))); });
+      [&s](const httplib::Request&, const PathParams& p) { return JsonResponse(CloseJson(s.Close(p["map"], SceneId(p)))); });
   router.Add("GET", "/v1/maps/{map}/keyframes/{keyframe}", Role::kReader, "A keyframe's metadata",
-      [&s](const httplib::Request&, const PathParams& p) { return JsonResponse(s.GetKeyframe(p["map"], IdParam(p, "keyframe"))); });
+      [&s](const httplib::Request&, const PathParams& p) { return JsonResponse(KeyframeInfoJson(s.GetKeyframe(p["map"], KeyframeId(p)))); });
   router.Add("GET", "/v1/maps/{map}/keyframes/{keyframe}/depth", Role::kReader, "A keyframe's raw depth as 16-bit PNG [mm]",
-      [&s](const httplib::Request&, const PathParams& p) {
-        ExportedLayer e = s.KeyframeImage(p["map"], IdParam(p, "keyframe"), "depth");
-        return Response{200, e.content_type, std::move(e.body), e.headers};
-      });
+      [&s](const httplib::Request&, const PathParams& p) { return BytesResponse(s.KeyframeImage(p["map"], KeyframeId(p), KeyframeImageKind::kDepth)); });
   router.Add("GET", "/v1/maps/{map}/keyframes/{keyframe}/background", Role::kReader,
       "A keyframe's static background as 16-bit PNG [mm]", [&s](const httplib::Request&, const PathParams& p) {
-        ExportedLayer e = s.KeyframeImage(p["map"], IdParam(p, "keyframe"), "background");
-        return Response{200, e.content_type, std::move(e.body), e.headers};
+        return BytesResponse(s.KeyframeImage(p["map"], KeyframeId(p), KeyframeImageKind::kBackground));
       });
 }
 

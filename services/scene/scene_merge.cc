@@ -1,122 +1,170 @@
 // Opening a scene model where earlier ones were taken: candidate selection, the merge of Algorithm 2 on the first
-// frame, its report, and supersession (thesis 3.3.2-3.3.4).
-#include "services/scene/scene_service.h"
-#include "services/scene/scene_service_internal.h"
+// frame, its report, and supersession (thesis 3.3.2-3.3.4). The rules are in engine/scene (merge_candidates.h,
+// merge.h, supersession.h); here the earlier models are read in one snapshot, merged outside any write, and the
+// result is committed by a short write that first checks that the earlier models are still as read.
 #include "engine/scene/merge.h"
 #include "engine/scene/projection.h"
+#include "services/scene/scene_service.h"
+#include "services/scene/scene_service_internal.h"
 
 namespace anchordb::services {
 
 using namespace scene_detail;
+namespace docs = scene_documents;
 
-Json SceneService::SelectCandidates(const std::string& map, const PinholeIntrinsics& K, const Pose3& pose,
-                                    std::int64_t stamp_ns) {
+namespace {
+
+// What the merge depends on of an earlier model's row (nullopt: gone).
+struct ModelStamp {
+  bool exists = false;
+  std::string status;
+  std::optional<std::int64_t> superseded_by;
+  std::int64_t state_version = 0;
+  std::int64_t frames = 0;
+  std::optional<std::int64_t> forgotten_ns;
+  bool operator==(const ModelStamp&) const = default;
+};
+
+ModelStamp StampOf(const std::optional<storage::SceneRecord>& r) {
+  if (!r) return {};
+  return {true, r->status, r->superseded_by, r->state_version, r->frames, r->forgotten_ns};
+}
+
+MergedModel ReportOf(const engine::MergeModelReport& r) {
+  MergedModel m;
+  m.scene_id = r.id;
+  m.icp_converged = r.icp.converged;
+  m.icp_applied = r.icp_applied;
+  m.fitness_m2 = r.icp.fitness_m2;
+  m.fitness_before_m2 = r.icp.fitness_before_m2;
+  m.correction_translation_m = r.icp.correction.translation();
+  m.correction_rotation_rad = Eigen::AngleAxisd(r.icp.correction.linear()).angle();
+  m.source_points = r.icp.source_points;
+  m.target_points = r.icp.target_points;
+  m.rasterised = r.rasterised_pixels;
+  m.supported = r.supported;
+  m.replaced_farther = r.replaced_farther;
+  m.rear_projected = r.rear_projected;
+  m.filled_unknown = r.filled_unknown;
+  m.rejected_fov = r.rejected_fov;
+  m.rejected_occlusion = r.rejected_occlusion;
+  m.rejected_neighbourhood = r.rejected_neighbourhood;
+  return m;
+}
+
+}  // namespace
+
+struct SceneService::PriorSnapshot {
+  std::vector<engine::PriorModel> priors;
+  std::vector<Pose3> poses;                             // of the priors
+  std::vector<std::pair<std::int64_t, ModelStamp>> stamps;  // of every candidate, as read
+};
+
+std::vector<engine::MergeCandidate> SceneService::SelectCandidates(const std::string& map, const OpenSceneRequest& request,
+                                                                   std::int64_t stamp_ns) {
   storage::SceneFilter filter;
-  filter.near_m = pose.position_m;
+  filter.near_m = request.X_MapCamera.position_m;
   filter.radius_m = merge_.candidate_radius_m;
-  filter.limit = 50;
-  const auto records = store_.Read([&](storage::Connection& c) { return storage::ListScenes(c, map, filter); });
-  const Eigen::Isometry3d X_MC = engine::ToIsometry(pose);
-  Json out = Json::array();
-  for (const auto& r : records) {
-    if (static_cast<int>(out.size()) >= merge_.max_candidates) break;
-    if (r.status == "observing" || r.frames == 0) continue;  // only finished observations with a persisted state
-    if (static_cast<double>(stamp_ns - r.started_ns) > merge_.max_age_s * 1e9) continue;
-    const auto full = store_.Read([&](storage::Connection& c) { return storage::FindScene(c, map, r.id, true); });
-    if (!full || full->background.empty()) continue;
-    const PinholeIntrinsics Kj = IntrinsicsFromJson(Json::parse(full->intrinsics_json));
-    const auto background = DecodeAs<float>(full->background, BlobElement::kF32, static_cast<std::size_t>(Kj.width) * Kj.height);
-    std::vector<float> sparse(background.size(), 0.0f);  // every 8th pixel in both directions probes the overlap
-    for (int v = 0; v < Kj.height; v += 8) for (int u = 0; u < Kj.width; u += 8) sparse[v * Kj.width + u] = background[v * Kj.width + u];
-    const Pose3 pj = json::AsPose3(Json::parse(full->pose_json), "pose");
-    const double overlap = engine::FrustumOverlap(engine::BackProject(sparse, Kj, engine::ToIsometry(pj)), K, X_MC,
-                                                  merge_.frustum_far_m);
-    if (overlap < merge_.min_overlap) continue;
-    out.push_back({{"scene", r.id}, {"overlap", overlap}});
+  filter.limit = engine::kMergeCandidatesExamined;
+  std::vector<engine::EarlierModel> earlier;
+  for (const auto& r : store_.Read([&](storage::Connection& c) { return storage::ListScenes(c, map, filter); })) {
+    earlier.push_back({r.id, r.status == "observing", r.frames, r.started_ns, Eigen::Vector3d(r.x_m, r.y_m, r.z_m)});
   }
-  return out;
+  const auto background_of = [&](std::int64_t id) -> std::optional<engine::EarlierBackground> {
+    const auto full = store_.Read([&](storage::Connection& c) { return storage::FindScene(c, map, id, true); });
+    if (!full || full->background.empty()) return std::nullopt;
+    engine::EarlierBackground e;
+    e.K = docs::CameraFromDocument(json::Json::parse(full->intrinsics_json));
+    e.X_MapCamera = engine::ToIsometry(StoredPose(full->pose_json));
+    e.background_m = DecodeAs<float>(full->background, BlobElement::kF32, static_cast<std::size_t>(e.K.width) * e.K.height);
+    return e;
+  };
+  return engine::SelectMergeCandidates(earlier, request.camera, engine::ToIsometry(request.X_MapCamera), stamp_ns, merge_,
+                                       background_of);
+}
+
+SceneService::PriorSnapshot SceneService::ReadPriors(const Model& m) {
+  return store_.Read([&](storage::Connection& c) {
+    PriorSnapshot s;
+    for (const engine::MergeCandidate& candidate : m.merge.candidates) {
+      const auto full = storage::FindScene(c, m.record.map_id, candidate.id, true);
+      s.stamps.emplace_back(candidate.id, StampOf(full));
+      if (!full || full->background.empty()) continue;  // forgotten meanwhile
+      engine::PriorModel prior;
+      prior.id = candidate.id;
+      prior.K = docs::CameraFromDocument(json::Json::parse(full->intrinsics_json));
+      s.poses.push_back(StoredPose(full->pose_json));
+      prior.X_MapCamera = engine::ToIsometry(s.poses.back());
+      prior.background_m = DecodeAs<float>(full->background, BlobElement::kF32, static_cast<std::size_t>(prior.K.width) * prior.K.height);
+      s.priors.push_back(std::move(prior));
+    }
+    return s;
+  });
 }
 
 void SceneService::MergeFirstFrame(Model& m, const std::vector<std::uint16_t>& depth, double scale,
                                    const std::vector<std::uint8_t>& dynamic) {
-  Json report = Json::parse(m.record.merge_report_json);
-  const Pose3 pose = json::AsPose3(Json::parse(m.record.pose_json), "pose");
+  const Pose3 pose = StoredPose(m.record.pose_json);
   const Eigen::Isometry3d X_MC = engine::ToIsometry(pose);
-  std::vector<engine::PriorModel> priors;
-  std::vector<Pose3> prior_poses;
-  for (const Json& c : report["candidates"]) {
-    const std::int64_t id = c["scene"].get<std::int64_t>();
-    const auto full = store_.Read([&](storage::Connection& conn) { return storage::FindScene(conn, m.record.map_id, id, true); });
-    if (!full || full->background.empty()) continue;  // forgotten meanwhile
-    engine::PriorModel prior;
-    prior.id = id;
-    prior.K = IntrinsicsFromJson(Json::parse(full->intrinsics_json));
-    prior_poses.push_back(json::AsPose3(Json::parse(full->pose_json), "pose"));
-    prior.X_MapCamera = engine::ToIsometry(prior_poses.back());
-    prior.background_m = DecodeAs<float>(full->background, BlobElement::kF32, static_cast<std::size_t>(prior.K.width) * prior.K.height);
-    priors.push_back(std::move(prior));
-  }
   engine::MergeParams params;
-  params.beta = m.params.beta;
+  params.beta = m.params.model.beta;
   params.frustum_far_m = merge_.frustum_far_m;
-  const std::string strategy = report.value("strategy", "algorithm2");
-  params.strategy = strategy == "naive" ? engine::MergeStrategy::kNaive
-                    : strategy == "naive_without_icp" ? engine::MergeStrategy::kNaiveWithoutIcp
-                                                       : engine::MergeStrategy::kAlgorithm2;
-  const engine::MergeResult result = engine::MergeAndApplyFirstFrame(
-      m.state, depth, scale, dynamic.empty() ? std::span<const std::uint8_t>() : dynamic, m.params, m.K, X_MC, priors, params);
-  Json used = Json::array();
-  for (const auto& r : result.models) {
-    const Eigen::AngleAxisd aa(r.icp.correction.linear());
-    const Eigen::Vector3d t = r.icp.correction.translation();
-    used.push_back({{"scene", r.id},
-                    {"icp", {{"converged", r.icp.converged}, {"applied", r.icp_applied}, {"fitness_m2", r.icp.fitness_m2}, {"fitness_before_m2", r.icp.fitness_before_m2},
-                             {"correction", {{"translation_m", {t.x(), t.y(), t.z()}}, {"rotation_rad", aa.angle()}}},
-                             {"source_points", r.icp.source_points}, {"target_points", r.icp.target_points}}},
-                    {"pixels", {{"rasterised", r.rasterised_pixels}, {"supported", r.supported},
-                                {"replaced_farther", r.replaced_farther}, {"rear_projected", r.rear_projected},
-                                {"filled_unknown", r.filled_unknown}, {"rejected_fov", r.rejected_fov},
-                                {"rejected_occlusion", r.rejected_occlusion},
-                                {"rejected_neighbourhood", r.rejected_neighbourhood}}}});
+  params.strategy = m.merge.strategy;
+  // Read, merge without holding the write lock, then commit if the earlier models are still as read; the merge is
+  // redone once from a fresh read if they changed meanwhile.
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    const PriorSnapshot snapshot = ReadPriors(m);
+    engine::SceneModelState state = m.state;  // fresh: the merge builds the first state
+    const engine::MergeResult result = engine::MergeAndApplyFirstFrame(
+        state, depth, scale, dynamic.empty() ? std::span<const std::uint8_t>() : dynamic, m.params.model, m.K, X_MC,
+        snapshot.priors, params);
+    MergeReport report = m.merge;
+    for (const auto& r : result.models) report.models_used.push_back(ReportOf(r));
+    // The registration also localises this camera against the earlier models: the best applied ICP correction gives
+    // the pose the segments of this model are placed with (X_MC_corrected = X_MC * correction^-1).
+    const engine::MergeModelReport* best_icp = nullptr;
+    for (const auto& r : result.models) {
+      if (r.icp_applied && (!best_icp || r.icp.fitness_m2 < best_icp->icp.fitness_m2)) best_icp = &r;
+    }
+    if (best_icp) {
+      const Eigen::Isometry3d corrected = X_MC * best_icp->icp.correction.inverse();
+      Pose3 p;
+      p.position_m = corrected.translation();
+      p.orientation = Eigen::Quaterniond(corrected.linear());
+      report.X_MapCamera_corrected = p;
+      report.corrected_by_scene = best_icp->id;
+    }
+    report.performed = true;
+    report.pending = false;
+    report.timing = result.timing;
+    // Supersession (3.3.4): earlier models from (nearly) the same viewpoint are now represented by this one.
+    for (std::size_t k = 0; k < snapshot.priors.size(); ++k) {
+      if (engine::Supersedes(pose, snapshot.poses[k], merge_)) report.superseded.push_back(snapshot.priors[k].id);
+    }
+    storage::SceneRecord written = m.record;
+    written.merge_report_json = docs::MergeReportDocument(report).dump();
+    written = StateRecord(written, m.K, state);  // the merge is persisted with the model at once
+    const bool committed = store_.Write([&](storage::Connection& c) {
+      for (const auto& [id, stamp] : snapshot.stamps) {
+        if (!(StampOf(storage::FindScene(c, m.record.map_id, id, false)) == stamp)) return false;
+      }
+      for (std::int64_t old : report.superseded) storage::UpdateSceneStatus(c, old, "superseded", std::nullopt, m.record.id);
+      storage::UpdateSceneState(c, written, m.record.state_version);
+      return true;
+    });
+    if (!committed) continue;
+    m.state = std::move(state);
+    m.SetMergeReport(std::move(report));
+    m.Persisted(written);
+    m.last_counts = engine::FrameCounts{};
+    for (std::size_t i = 0; i < m.state.movable.size(); ++i) {
+      m.last_counts.movable += m.state.movable[i];
+      m.last_counts.dynamic += m.state.dynamic[i];
+    }
+    return;
   }
-  // The registration also localises this camera against the earlier models: the best applied ICP correction gives
-  // the pose the segments of this model are placed with (X_MC_corrected = X_MC * correction^-1).
-  const engine::MergeModelReport* best_icp = nullptr;
-  for (const auto& r : result.models) {
-    if (r.icp_applied && (!best_icp || r.icp.fitness_m2 < best_icp->icp.fitness_m2)) best_icp = &r;
-  }
-  if (best_icp) {
-    const Eigen::Isometry3d corrected = X_MC * best_icp->icp.correction.inverse();
-    const Eigen::Quaterniond q(corrected.linear());
-    report["pose_corrected"] = {{"position", {corrected.translation().x(), corrected.translation().y(), corrected.translation().z()}},
-                                {"orientation", {q.x(), q.y(), q.z(), q.w()}}};
-    report["pose_corrected_by_scene"] = best_icp->id;
-  }
-  report["performed"] = true;
-  report["pending"] = false;
-  report["models_used"] = used;
-  report["timing_ms"] = {{"icp", result.timing.icp_ms}, {"rasterise", result.timing.rasterise_ms},
-                         {"merge", result.timing.merge_ms}};
-  // Supersession (3.3.4): earlier models from (nearly) the same viewpoint are now represented by this one.
-  Json superseded = Json::array();
-  const Eigen::Vector3d view = pose.orientation * Eigen::Vector3d::UnitZ();
-  for (std::size_t k = 0; k < priors.size(); ++k) {
-    const double distance = (prior_poses[k].position_m - pose.position_m).norm();
-    const double angle = std::acos(std::clamp((prior_poses[k].orientation * Eigen::Vector3d::UnitZ()).dot(view), -1.0, 1.0));
-    if (distance <= merge_.supersede_distance_m && angle <= merge_.supersede_angle_rad) superseded.push_back(priors[k].id);
-  }
-  report["superseded"] = superseded;
-  m.record.merge_report_json = report.dump();
-  const std::int64_t id = m.record.id;
-  store_.Write([&](storage::Connection& c) {
-    for (const Json& old : superseded) storage::UpdateSceneStatus(c, old.get<std::int64_t>(), "superseded", std::nullopt, id);
-  });
-  m.last_counts = engine::FrameCounts{};
-  for (std::size_t i = 0; i < m.state.movable.size(); ++i) {
-    m.last_counts.movable += m.state.movable[i];
-    m.last_counts.dynamic += m.state.dynamic[i];
-  }
-  Persist(m);  // the merge is persisted with the model at once
+  throw Error(ErrorCode::kConflict, "the earlier scene models merged into scene " + std::to_string(m.record.id) +
+                                        " changed during the merge twice; send the frame again", "scene");
 }
 
 }  // namespace anchordb::services

@@ -1,15 +1,16 @@
 #pragma once
-// Internal to api/scene_service*.cc: the in-memory state of a scene model and the helpers its files share.
+// Internal to services/scene/*.cc: the in-memory state of a scene model and the helpers its files share.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <mutex>
 
-#include "services/scene/scene_service.h"
 #include "engine/scene/scene_model.h"
 #include "schema/error.h"
+#include "services/scene/scene_documents_internal.h"
+#include "services/scene/scene_service.h"
 #include "storage/blob_codec.h"
+#include "storage/scene_repository.h"
 
 namespace anchordb::services {
 
@@ -17,39 +18,7 @@ using storage::BlobElement;
 
 namespace scene_detail {
 
-inline std::int64_t NowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
-
-inline Json IntrinsicsJson(const PinholeIntrinsics& K) {
-  return {{"width", K.width}, {"height", K.height}, {"fx", K.fx}, {"fy", K.fy}, {"cx", K.cx}, {"cy", K.cy}};
-}
-
-inline PinholeIntrinsics ParseIntrinsics(const Json& j, int max_side) {
-  if (!j.is_object()) throw Error(ErrorCode::kInvalidArgument, "camera must be an object {width,height,fx,fy,cx,cy}", "camera");
-  json::RejectUnknownKeys(j, {"width", "height", "fx", "fy", "cx", "cy"}, "camera");
-  PinholeIntrinsics K;
-  const double w = json::RequireFiniteNumber(j, "width", "camera"), h = json::RequireFiniteNumber(j, "height", "camera");
-  if (w != std::floor(w) || h != std::floor(h)) throw Error(ErrorCode::kInvalidArgument, "camera width/height must be integers", "camera.width");
-  if (w < 1 || h < 1 || w > max_side || h > max_side) {
-    throw Error(ErrorCode::kUnprocessable, "camera width and height must be in [1, " + std::to_string(max_side) + "]", "camera.width");
-  }
-  K.width = static_cast<int>(w);
-  K.height = static_cast<int>(h);
-  K.fx = json::RequireFiniteNumber(j, "fx", "camera");
-  K.fy = json::RequireFiniteNumber(j, "fy", "camera");
-  K.cx = json::RequireFiniteNumber(j, "cx", "camera");
-  K.cy = json::RequireFiniteNumber(j, "cy", "camera");
-  if (K.fx <= 0 || K.fy <= 0) throw Error(ErrorCode::kUnprocessable, "camera fx and fy must be positive", "camera.fx");
-  return K;
-}
-
-inline PinholeIntrinsics IntrinsicsFromJson(const Json& j) {
-  return {j.at("width").get<int>(), j.at("height").get<int>(), j.at("fx").get<double>(), j.at("fy").get<double>(),
-          j.at("cx").get<double>(), j.at("cy").get<double>()};
-}
-
-inline double ParseDepthScale(double v, const std::string& field) {
+inline double CheckDepthScale(double v, const std::string& field) {
   if (!(v > 0.0) || v > 1e6) throw Error(ErrorCode::kUnprocessable, "depth_scale must be in (0, 1e6] units per metre", field);
   return v;
 }
@@ -78,26 +47,54 @@ inline std::vector<std::uint16_t> ToMillimetres(const std::vector<float>& metres
   return mm;
 }
 
-}  // namespace scene_detail
+// The stored camera pose the computations use (checked and renormalised like a request's).
+inline Pose3 StoredPose(const std::string& pose_json) { return json::AsPose3(json::Json::parse(pose_json), "pose"); }
 
+inline void RequireMap(storage::Connection& c, const std::string& map) {
+  if (!storage::FindMap(c, map)) throw Error(ErrorCode::kNotFound, "map '" + map + "' does not exist", "map");
+}
+
+// A copy of `base` carrying the encoded state (blobs, frames, next state_version), for UpdateSceneState.
+inline storage::SceneRecord StateRecord(const storage::SceneRecord& base, const PinholeIntrinsics& K,
+                                        const engine::SceneModelState& state) {
+  storage::SceneRecord r = base;
+  r.background = EncodeF32(state.background_m, K.width, K.height);
+  r.weight = EncodeF32(state.weight, K.width, K.height);
+  std::vector<std::uint8_t> labels(state.movable);
+  labels.insert(labels.end(), state.dynamic.begin(), state.dynamic.end());
+  r.labels = storage::EncodeBlob(BlobElement::kU8, {2, static_cast<std::uint32_t>(K.height), static_cast<std::uint32_t>(K.width)},
+                                 storage::AsBytes(labels), 1);
+  r.frames = state.frames;
+  r.state_version = base.state_version + 1;
+  return r;
+}
+
+}  // namespace scene_detail
 
 struct SceneService::Model {
   std::mutex mutex;
-  storage::SceneRecord record;  // state blobs not kept here
+  storage::SceneRecord record;  // state blobs not kept here; merge_report_json follows `merge`
   PinholeIntrinsics K;
-  engine::SceneModelParams params;
-  double depth_scale = 1000.0;
+  SceneParams params;
+  MergeReport merge;
   engine::SceneModelState state;
   int unpersisted_frames = 0;
   std::vector<std::uint16_t> last_depth_mm;  // the latest frame, for keyframes
   bool has_begin_keyframe = false;
   engine::FrameCounts last_counts;
   std::int64_t next_action_layer = 0;  // the layer the next keyframe opens
-  // Settled-movement detection (SceneLimits::settle_*).
-  std::int64_t movable_at_keyframe = 0;
-  std::int64_t reset_since_keyframe = 0;
-  std::int64_t previous_movable = -1;
-  int stable_frames = 0;
+  engine::SettleDetector settle;       // SceneLimits::settle_*
+
+  void SetMergeReport(MergeReport report) {
+    merge = std::move(report);
+    record.merge_report_json = scene_documents::MergeReportDocument(merge).dump();
+  }
+  // `written` (a StateRecord of this model) was committed.
+  void Persisted(const storage::SceneRecord& written) {
+    record.state_version = written.state_version;
+    record.frames = written.frames;
+    unpersisted_frames = 0;
+  }
 };
 
 }  // namespace anchordb::services

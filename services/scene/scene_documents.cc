@@ -1,0 +1,128 @@
+#include "services/scene/scene_documents_internal.h"
+
+#include <limits>
+
+namespace anchordb::services::scene_documents {
+namespace {
+
+// Non-finite numbers are written as null (nlohmann) and read back as NaN.
+double NumberOrNaN(const Json& j, const char* key) {
+  const auto it = j.find(key);
+  return it == j.end() || !it->is_number() ? std::numeric_limits<double>::quiet_NaN() : it->get<double>();
+}
+
+Json MergedModelDocument(const MergedModel& r) {
+  const Eigen::Vector3d& t = r.correction_translation_m;
+  return {{"scene", r.scene_id},
+          {"icp", {{"converged", r.icp_converged}, {"applied", r.icp_applied}, {"fitness_m2", r.fitness_m2},
+                   {"fitness_before_m2", r.fitness_before_m2},
+                   {"correction", {{"translation_m", {t.x(), t.y(), t.z()}}, {"rotation_rad", r.correction_rotation_rad}}},
+                   {"source_points", r.source_points}, {"target_points", r.target_points}}},
+          {"pixels", {{"rasterised", r.rasterised}, {"supported", r.supported}, {"replaced_farther", r.replaced_farther},
+                      {"rear_projected", r.rear_projected}, {"filled_unknown", r.filled_unknown},
+                      {"rejected_fov", r.rejected_fov}, {"rejected_occlusion", r.rejected_occlusion},
+                      {"rejected_neighbourhood", r.rejected_neighbourhood}}}};
+}
+
+MergedModel MergedModelFromDocument(const Json& j) {
+  MergedModel r;
+  r.scene_id = j.at("scene").get<std::int64_t>();
+  const Json icp = j.value("icp", Json::object());
+  r.icp_converged = icp.value("converged", false);
+  r.icp_applied = icp.value("applied", false);
+  r.fitness_m2 = NumberOrNaN(icp, "fitness_m2");
+  r.fitness_before_m2 = NumberOrNaN(icp, "fitness_before_m2");
+  const Json correction = icp.value("correction", Json::object());
+  const Json t = correction.value("translation_m", Json::array({0.0, 0.0, 0.0}));
+  r.correction_translation_m = {t.at(0).get<double>(), t.at(1).get<double>(), t.at(2).get<double>()};
+  r.correction_rotation_rad = NumberOrNaN(correction, "rotation_rad");
+  r.source_points = icp.value("source_points", std::size_t{0});
+  r.target_points = icp.value("target_points", std::size_t{0});
+  const Json px = j.value("pixels", Json::object());
+  r.rasterised = px.value("rasterised", std::size_t{0});
+  r.supported = px.value("supported", std::size_t{0});
+  r.replaced_farther = px.value("replaced_farther", std::size_t{0});
+  r.rear_projected = px.value("rear_projected", std::size_t{0});
+  r.filled_unknown = px.value("filled_unknown", std::size_t{0});
+  r.rejected_fov = px.value("rejected_fov", std::size_t{0});
+  r.rejected_occlusion = px.value("rejected_occlusion", std::size_t{0});
+  r.rejected_neighbourhood = px.value("rejected_neighbourhood", std::size_t{0});
+  return r;
+}
+
+}  // namespace
+
+Json CameraDocument(const PinholeIntrinsics& K) {
+  return {{"width", K.width}, {"height", K.height}, {"fx", K.fx}, {"fy", K.fy}, {"cx", K.cx}, {"cy", K.cy}};
+}
+
+PinholeIntrinsics CameraFromDocument(const Json& j) {
+  return {j.at("width").get<int>(), j.at("height").get<int>(), j.at("fx").get<double>(), j.at("fy").get<double>(),
+          j.at("cx").get<double>(), j.at("cy").get<double>()};
+}
+
+Json PoseDocument(const Pose3& pose) { return json::ToJson(pose); }
+
+Pose3 PoseFromDocument(const Json& j) {
+  const Json& p = j.at("position");
+  const Json& q = j.at("orientation");
+  Pose3 pose;
+  pose.position_m = {p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>()};
+  pose.orientation = Eigen::Quaterniond(q.at(3).get<double>(), q.at(0).get<double>(), q.at(1).get<double>(), q.at(2).get<double>());
+  return pose;
+}
+
+Json ParamsDocument(const SceneParams& params) {
+  return {{"beta", params.model.beta},
+          {"dynamic_mode", NameOf(kDynamicModeNames, params.model.dynamic_mode)},
+          {"depth_scale", params.depth_scale}};
+}
+
+SceneParams ParamsFromDocument(const Json& j) {
+  SceneParams params;
+  params.model.beta = j.at("beta").get<double>();
+  params.model.dynamic_mode = j.at("dynamic_mode") == "subtract" ? engine::DynamicMode::kSubtractFromMovable
+                                                                 : engine::DynamicMode::kExcludeFromInput;
+  params.depth_scale = j.at("depth_scale").get<double>();
+  return params;
+}
+
+Json MergeReportDocument(const MergeReport& r) {
+  Json candidates = Json::array();
+  for (const auto& c : r.candidates) candidates.push_back({{"scene", c.id}, {"overlap", c.overlap}});
+  Json out = {{"requested", r.requested}, {"strategy", NameOf(kMergeStrategyNames, r.strategy)},
+              {"performed", r.performed}, {"candidates", candidates}};
+  if (r.pending) out["pending"] = *r.pending;
+  if (r.performed) {
+    Json used = Json::array();
+    for (const auto& m : r.models_used) used.push_back(MergedModelDocument(m));
+    out["models_used"] = used;
+    out["timing_ms"] = {{"icp", r.timing.icp_ms}, {"rasterise", r.timing.rasterise_ms}, {"merge", r.timing.merge_ms}};
+    out["superseded"] = r.superseded;
+  }
+  if (r.X_MapCamera_corrected) out["pose_corrected"] = PoseDocument(*r.X_MapCamera_corrected);
+  if (r.corrected_by_scene) out["pose_corrected_by_scene"] = *r.corrected_by_scene;
+  return out;
+}
+
+MergeReport MergeReportFromDocument(const Json& j) {
+  MergeReport r;
+  r.requested = j.value("requested", true);
+  r.strategy = ValueOf(kMergeStrategyNames, j.value("strategy", std::string("algorithm2"))).value_or(r.strategy);
+  for (const Json& c : j.value("candidates", Json::array())) {
+    r.candidates.push_back({c.at("scene").get<std::int64_t>(), NumberOrNaN(c, "overlap")});
+  }
+  if (j.contains("pending")) r.pending = j["pending"].get<bool>();
+  r.performed = j.value("performed", false);
+  for (const Json& m : j.value("models_used", Json::array())) r.models_used.push_back(MergedModelFromDocument(m));
+  if (j.contains("timing_ms")) {
+    const Json& timing = j["timing_ms"];
+    r.timing = {NumberOrNaN(timing, "icp"), NumberOrNaN(timing, "rasterise"), NumberOrNaN(timing, "merge")};
+  }
+  r.superseded = j.value("superseded", std::vector<std::int64_t>{});
+  if (j.contains("pose_corrected")) r.X_MapCamera_corrected = PoseFromDocument(j["pose_corrected"]);
+  if (j.contains("pose_corrected_by_scene")) r.corrected_by_scene = j["pose_corrected_by_scene"].get<std::int64_t>();
+  return r;
+}
+
+}  // namespace anchordb::services::scene_documents

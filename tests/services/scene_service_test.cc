@@ -1,0 +1,248 @@
+// SceneService without HTTP, on a fake clock: typed open/frames/keyframes/close, a settled movement, the merge with
+// supersession (also with two models merging the same earlier one at once), bad values refused, and the stored
+// documents read back as written.
+#include "services/scene/scene_service.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <thread>
+
+#include "engine/scene/depth_image.h"
+#include "schema/error.h"
+#include "services/grid/grid_service.h"
+#include "services/scene/scene_documents_internal.h"
+#include "tests/support/temp_dir.h"
+
+namespace anchordb::services {
+namespace {
+
+constexpr std::int64_t kStartNs = 1'700'000'000'000'000'000LL;
+const PinholeIntrinsics kK{64, 48, 60.0, 60.0, 31.5, 23.5};
+
+// The corner of a room (a wall 2 m ahead, a side wall 0.6 m right, the floor 0.5 m below the camera, in the optical
+// frame), optionally with a 20 x 20 px box at 1.5 m in front of the wall (400 px). Three planes: ICP is determined
+// (on a single plane it is not).
+std::string Frame(bool box) {
+  std::vector<std::uint16_t> mm(static_cast<std::size_t>(kK.width) * kK.height);
+  for (int v = 0; v < kK.height; ++v) {
+    for (int u = 0; u < kK.width; ++u) {
+      const double dx = (u - kK.cx) / kK.fx, dy = (v - kK.cy) / kK.fy;
+      double z = 2.0;
+      if (dx > 0) z = std::min(z, 0.6 / dx);
+      if (dy > 0) z = std::min(z, 0.5 / dy);
+      mm[v * kK.width + u] = static_cast<std::uint16_t>(std::lround(z * 1000.0));
+    }
+  }
+  if (box) {
+    for (int v = 10; v < 30; ++v) for (int u = 20; u < 40; ++u) mm[v * kK.width + u] = 1500;
+  }
+  return engine::EncodeDepthPng(mm, kK.width, kK.height);
+}
+
+class SceneServiceTest : public ::testing::Test {
+ protected:
+  SceneServiceTest() : clock_(kStartNs) {
+    storage::StoreOptions so;
+    so.path = dir_.File("scenes.sqlite");
+    store_ = std::make_unique<storage::Store>(so);
+    GridService(*store_, {}, {}).CreateMap("home", "test");
+    scenes_ = std::make_unique<SceneService>(*store_, SceneLimits{}, MergeSettings{}, clock_);
+  }
+  OpenSceneRequest At(const Eigen::Vector3d& p) const {
+    OpenSceneRequest r;
+    r.camera = kK;
+    r.X_MapCamera.position_m = p;
+    return r;
+  }
+  FrameResult Add(std::int64_t id, const std::string& png) {
+    FrameInput in;
+    in.body = png;
+    return scenes_->AddFrame("home", id, in);
+  }
+  std::int64_t Observed(const Eigen::Vector3d& p, int frames) {
+    const std::int64_t id = scenes_->Open("home", At(p)).id;
+    const std::string wall = Frame(false);
+    for (int i = 0; i < frames; ++i) Add(id, wall);
+    scenes_->Close("home", id);
+    return id;
+  }
+
+  testing::TempDir dir_;
+  FakeClock clock_;
+  std::unique_ptr<storage::Store> store_;
+  std::unique_ptr<SceneService> scenes_;
+};
+
+ErrorCode CodeOf(const std::function<void()>& f, std::string* field = nullptr) {
+  try {
+    f();
+  } catch (const Error& e) {
+    if (field) *field = e.field();
+    return e.code();
+  }
+  return ErrorCode::kInternal;
+}
+
+TEST_F(SceneServiceTest, StampsComeFromTheInjectedClock) {
+  const SceneInfo opened = scenes_->Open("home", At({0, 0, 1}));
+  EXPECT_EQ(opened.started_ns, kStartNs);
+  EXPECT_EQ(opened.status, SceneStatus::kObserving);
+  ASSERT_TRUE(opened.state);
+  EXPECT_EQ(opened.state->frames, 0);
+  EXPECT_FALSE(opened.merge.pending.value_or(true));  // nothing earlier to merge
+  clock_.AdvanceNs(5'000'000);
+  const FrameResult first = Add(opened.id, Frame(false));
+  ASSERT_TRUE(first.keyframe);
+  EXPECT_EQ(first.keyframe->kind, KeyframeKind::kBegin);
+  EXPECT_FALSE(first.keyframe->analysis);  // no listener
+  EXPECT_EQ(first.pixels.reset, static_cast<std::size_t>(kK.width * kK.height));
+  clock_.AdvanceNs(5'000'000);
+  const KeyframeResult manual = scenes_->Keyframe("home", opened.id);
+  EXPECT_EQ(manual.keyframe.action_layer, 1);
+  const CloseResult closed = scenes_->Close("home", opened.id);
+  EXPECT_EQ(closed.frames, 1);
+  const SceneInfo info = scenes_->Get("home", opened.id);
+  EXPECT_EQ(info.last_frame_ns, kStartNs + 5'000'000);  // the frame's time
+  EXPECT_EQ(info.ended_ns, kStartNs + 5'000'000);       // the last frame's, not the clock's
+  ASSERT_EQ(info.keyframes.size(), 3u);
+  EXPECT_EQ(scenes_->GetKeyframe("home", info.keyframes[1].id).stamp_ns, kStartNs + 5'000'000);
+}
+
+TEST_F(SceneServiceTest, ACompletedMovementStoresASettledKeyframe) {
+  const std::int64_t id = scenes_->Open("home", At({0, 0, 1})).id;
+  const std::string wall = Frame(false), box = Frame(true);
+  for (int i = 0; i < 3; ++i) Add(id, wall);
+  EXPECT_EQ(Add(id, box).pixels.movable, 400u);  // the movement: not yet settled
+  std::vector<int> settled_at;
+  for (int i = 1; i <= 12; ++i) {
+    const FrameResult r = Add(id, box);
+    if (r.keyframe) {
+      EXPECT_EQ(r.keyframe->kind, KeyframeKind::kSettled);
+      settled_at.push_back(i);
+    }
+  }
+  EXPECT_EQ(settled_at, std::vector<int>{8});  // settle_frames steady frames, once
+}
+
+TEST_F(SceneServiceTest, AReopenedViewpointMergesAndSupersedesTheEarlierModel) {
+  const std::int64_t a = Observed({0, 0, 1}, 3);
+  const SceneInfo b = scenes_->Open("home", At({0, 0, 1}));
+  ASSERT_EQ(b.merge.candidates.size(), 1u);
+  EXPECT_EQ(b.merge.candidates[0].id, a);
+  EXPECT_TRUE(b.merge.pending.value_or(false));
+  Add(b.id, Frame(false));
+  const SceneInfo merged = scenes_->Get("home", b.id);
+  EXPECT_TRUE(merged.merge.performed);
+  EXPECT_FALSE(*merged.merge.pending);
+  ASSERT_EQ(merged.merge.models_used.size(), 1u);
+  EXPECT_EQ(merged.merge.superseded, std::vector<std::int64_t>{a});
+  const SceneInfo old = scenes_->Get("home", a);
+  EXPECT_EQ(old.status, SceneStatus::kSuperseded);
+  EXPECT_EQ(old.superseded_by, b.id);
+  // Older than max_age_s: not a candidate.
+  clock_.AdvanceNs(static_cast<std::int64_t>(MergeSettings{}.max_age_s * 1e9) + 1);
+  EXPECT_TRUE(scenes_->Open("home", At({0, 0, 1})).merge.candidates.empty());
+}
+
+// Two new models merge the same earlier one at once: each merge runs outside the write lock and commits only if the
+// earlier model is still as it read it; the one that finds it changed merges again. Both succeed in any order.
+TEST_F(SceneServiceTest, ConcurrentMergesOfOneEarlierModelBothCommit) {
+  const std::int64_t a = Observed({0, 0, 1}, 3);
+  const std::int64_t b = scenes_->Open("home", At({0, 0, 1})).id;
+  const std::int64_t c = scenes_->Open("home", At({0, 0, 1})).id;
+  const std::string wall = Frame(false);
+  std::thread other([&] { Add(c, wall); });
+  Add(b, wall);
+  other.join();
+  for (std::int64_t id : {b, c}) {
+    const SceneInfo s = scenes_->Get("home", id);
+    EXPECT_TRUE(s.merge.performed) << id;
+    EXPECT_EQ(s.merge.superseded, std::vector<std::int64_t>{a}) << id;
+  }
+  const SceneInfo old = scenes_->Get("home", a);
+  EXPECT_EQ(old.status, SceneStatus::kSuperseded);
+  EXPECT_TRUE(old.superseded_by == b || old.superseded_by == c);
+}
+
+TEST_F(SceneServiceTest, BadValuesAreRefusedWithTheirField) {
+  std::string field;
+  OpenSceneRequest r = At({0, 0, 1});
+  r.camera.width = 5000;
+  EXPECT_EQ(CodeOf([&] { scenes_->Open("home", r); }, &field), ErrorCode::kUnprocessable);
+  EXPECT_EQ(field, "camera.width");
+  r = At({0, 0, 1});
+  r.camera.fy = 0;
+  EXPECT_EQ(CodeOf([&] { scenes_->Open("home", r); }, &field), ErrorCode::kUnprocessable);
+  EXPECT_EQ(field, "camera.fx");
+  r = At({0, 0, 1});
+  r.params.model.beta = 1.5;
+  EXPECT_EQ(CodeOf([&] { scenes_->Open("home", r); }, &field), ErrorCode::kUnprocessable);
+  EXPECT_EQ(field, "params.beta");
+  r = At({0, 0, 1});
+  r.params.depth_scale = 0;
+  EXPECT_EQ(CodeOf([&] { scenes_->Open("home", r); }, &field), ErrorCode::kUnprocessable);
+  EXPECT_EQ(field, "params.depth_scale");
+  EXPECT_EQ(CodeOf([&] { scenes_->Open("nowhere", At({0, 0, 1})); }, &field), ErrorCode::kNotFound);
+  EXPECT_TRUE(scenes_->List("home", {}).empty());
+  const std::int64_t id = scenes_->Open("home", At({0, 0, 1})).id;
+  EXPECT_EQ(CodeOf([&] { scenes_->Keyframe("home", id); }), ErrorCode::kConflict);  // no frame yet
+  EXPECT_EQ(CodeOf([&] { scenes_->Layer("home", id, SceneLayerKind::kStatic, SceneLayerEncoding::kPng, true); }, &field),
+            ErrorCode::kInvalidArgument);
+  EXPECT_EQ(field, "clean");
+  FrameInput in;
+  const std::string png = Frame(false);
+  in.body = png;
+  in.depth_scale = -1;
+  EXPECT_EQ(CodeOf([&] { scenes_->AddFrame("home", id, in); }, &field), ErrorCode::kUnprocessable);
+  EXPECT_EQ(field, "depth_scale");
+  scenes_->Close("home", id);
+  EXPECT_EQ(CodeOf([&] { Add(id, png); }), ErrorCode::kConflict);
+}
+
+TEST_F(SceneServiceTest, LayersAndListsAreTyped) {
+  const std::int64_t id = Observed({0, 0, 1}, 2);
+  const SceneLayerSummary s = scenes_->LayerSummary("home", id, SceneLayerKind::kStatic, false);
+  EXPECT_EQ(s.pixels, static_cast<std::size_t>(kK.width * kK.height));
+  EXPECT_GT(s.mean_depth_m, 1.5);
+  EXPECT_LT(s.mean_depth_m, 2.0);
+  const ExportedLayer raw = scenes_->Layer("home", id, SceneLayerKind::kStatic, SceneLayerEncoding::kRaw, false);
+  EXPECT_EQ(raw.body.size(), 4u * kK.width * kK.height);
+  EXPECT_EQ(raw.headers.at("X-Element"), "f32-metres");
+  SceneListFilter near;
+  near.near_m = Eigen::Vector3d(0, 0, 1);
+  near.status = SceneStatus::kClosed;
+  const auto listed = scenes_->List("home", near);
+  ASSERT_EQ(listed.size(), 1u);
+  EXPECT_EQ(listed[0].id, id);
+  EXPECT_FALSE(listed[0].state);  // List does not load states
+  near.near_m = Eigen::Vector3d(3, 0, 1);
+  EXPECT_TRUE(scenes_->List("home", near).empty());
+}
+
+// The stored documents read back as written, numbers and nulls included (the responses show them as stored).
+TEST(SceneDocumentsTest, MergeReportRoundTrips) {
+  const json::Json stored = json::Json::parse(R"({
+    "requested": true, "strategy": "naive", "performed": true, "pending": false,
+    "candidates": [{"scene": 3, "overlap": 0.8125}],
+    "models_used": [{"scene": 3,
+      "icp": {"converged": true, "applied": false, "fitness_m2": null, "fitness_before_m2": 0.0123,
+              "correction": {"translation_m": [0.01, -0.02, 0.003], "rotation_rad": 0.0174},
+              "source_points": 1200, "target_points": 3400},
+      "pixels": {"rasterised": 10, "supported": 9, "replaced_farther": 8, "rear_projected": 7, "filled_unknown": 6,
+                 "rejected_fov": 5, "rejected_occlusion": 4, "rejected_neighbourhood": 3}}],
+    "timing_ms": {"icp": 103.7, "rasterise": 5.0, "merge": 14.3},
+    "superseded": [3],
+    "pose_corrected": {"position": [0.1, 0.2, 1.3], "orientation": [0.0, 0.0, 0.0499791692706783, 0.9987502603949663]},
+    "pose_corrected_by_scene": 3})");
+  EXPECT_EQ(scene_documents::MergeReportDocument(scene_documents::MergeReportFromDocument(stored)).dump(), stored.dump());
+  const json::Json opened = json::Json::parse(R"({"requested": false, "strategy": "algorithm2", "performed": false,
+                                                  "candidates": []})");
+  EXPECT_EQ(scene_documents::MergeReportDocument(scene_documents::MergeReportFromDocument(opened)).dump(), opened.dump());
+  const json::Json pose = json::Json::parse(R"({"position": [1, 2, 3], "orientation": [0.5, 0.5, 0.5, 0.5000001]})");
+  EXPECT_EQ(scene_documents::PoseDocument(scene_documents::PoseFromDocument(pose)).dump(),
+            json::Json::parse(R"({"position": [1.0, 2.0, 3.0], "orientation": [0.5, 0.5, 0.5, 0.5000001]})").dump());
+}
+
+}  // namespace
+}  // namespace anchordb::services
