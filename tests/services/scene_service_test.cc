@@ -46,7 +46,7 @@ class SceneServiceTest : public ::testing::Test {
     storage::StoreOptions so;
     so.path = dir_.File("scenes.sqlite");
     store_ = std::make_unique<storage::Store>(so);
-    GridService(*store_, {}, {}).CreateMap("home", "test");
+    GridService(*store_, {}, {}).CreateMap({"home", "test"});
     scenes_ = std::make_unique<SceneService>(*store_, SceneLimits{}, MergeSettings{}, clock_);
   }
   OpenSceneRequest At(const Eigen::Vector3d& p) const {
