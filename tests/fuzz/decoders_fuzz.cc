@@ -3,7 +3,7 @@
 // else (a crash, another exception, a sanitizer report, a leak) is a finding.
 //   blob codec (storage rows) | depth PNG | mask PNG | raw depth | map_server YAML | map image (PGM/PNG) |
 //   JSON object + pose / polygons / log-odds parameters | ISO 8601 times | furniture-graph hypotheses blob |
-//   layer record (metadata JSON + blob, see api_codecs.h)
+//   layer record of any kind, whole or metadata only (selector + metadata JSON + blob, see stored_codecs.h)
 // Inputs: the committed corpus tests/fuzz/corpus/decoders (see README.md).
 #include <cstddef>
 #include <cstdint>
@@ -15,7 +15,7 @@
 #include "schema/error.h"
 #include "schema/json_io.h"
 #include "storage/blob_codec.h"
-#include "tests/fuzz/api_codecs.h"
+#include "tests/fuzz/stored_codecs.h"
 
 namespace {
 
@@ -43,21 +43,23 @@ void Decode(std::uint8_t which, std::string_view in) {
     }
     case 7: json::ParseIso8601Ns(in); break;
     case 8: {
-      const auto set = fuzz::hypotheses_codec::DecodeHypotheses(fuzz::FuzzGraph(), std::string(in));
+      const auto set = fuzz::hypotheses_codec::DecodeHypotheses(fuzz::FuzzGraph(), in);
       (void)set;
       break;
     }
     case 9: {
       const fuzz::LayerInput layer = fuzz::SplitLayerInput(in);
-      storage::LayerRecord record;
-      record.name = "fuzzed";
-      record.meta_json = layer.meta_json;
-      record.data = layer.blob;
-      switch (layer.kind) {
-        case 0: fuzz::layer_codec::DecodeOccupancy(record); break;
-        case 1: fuzz::layer_codec::DecodeLogOdds(record); break;
-        case 2: fuzz::layer_codec::DecodeLabels(record); break;
-        default: fuzz::layer_codec::ParseMeta(record); break;
+      const storage::LayerRecord record = layer.Record();
+      namespace lc = fuzz::layer_codec;
+      switch (layer.decoder()) {
+        case fuzz::LayerDecoder::kOccupancyLayer: (void)lc::DecodeOccupancyLayer(record); break;
+        case fuzz::LayerDecoder::kProbabilityLayer: (void)lc::DecodeProbabilityLayer(record); break;
+        case fuzz::LayerDecoder::kLabelLayer: (void)lc::DecodeLabelLayer(record); break;
+        case fuzz::LayerDecoder::kFusedMeta: (void)lc::DecodeFusedMeta(record); break;
+        case fuzz::LayerDecoder::kOccupancyMeta: (void)lc::DecodeOccupancyMeta(record); break;
+        case fuzz::LayerDecoder::kProbabilityMeta: (void)lc::DecodeProbabilityMeta(record); break;
+        case fuzz::LayerDecoder::kLabelMeta: (void)lc::DecodeLabelMeta(record); break;
+        case fuzz::LayerDecoder::kGeometry: (void)lc::DecodeGeometry(record); break;
       }
       break;
     }

@@ -1,6 +1,7 @@
 // Writes the seeds of anchordb_fuzz_decoders into a directory: valid inputs of every decoder, made with the
-// project's own encoders. The first byte selects the decoder (decoders_fuzz.cc). The seeds are committed in
-// tests/fuzz/corpus/decoders; rerun this (same names, same bytes) when an encoder's format changes:
+// project's own encoders (the stored-codec seeds decoded back before they are written). The first byte selects the
+// decoder (decoders_fuzz.cc); a layer record's own selector picks the layer decoder (stored_codecs.h). The seeds are
+// committed in tests/fuzz/corpus/decoders; rerun this (same names, same bytes) when an encoder's format changes:
 //   build-fuzz/anchordb_fuzz_seeds tests/fuzz/corpus/decoders
 #include <cstdint>
 #include <cstdio>
@@ -14,7 +15,8 @@
 #include "engine/grid/map_server.h"
 #include "engine/scene/depth_image.h"
 #include "storage/blob_codec.h"
-#include "tests/fuzz/api_codecs.h"
+#include "schema/json_io.h"
+#include "tests/fuzz/stored_codecs.h"
 
 using namespace anchordb;
 
@@ -30,17 +32,35 @@ int main(int argc, char** argv) {
     std::ofstream(dir / ("seed-" + name), std::ios::binary) << static_cast<char>(which) << body;
     ++n;
   };
-  // A seed the decoder refuses would only test the refusal: the api-side seeds are decoded back here first.
-  const auto decodes = [](const std::string& input, std::size_t expected_cells) {
+  // A seed the decoder refuses would only test the refusal: each layer seed is decoded back here first, with the
+  // decoder its selector names (stored_codecs.h), and must give what was encoded: re-encoded, the same kind,
+  // metadata and blob bytes (the metadata-only decoders: the same metadata; DecodeGeometry: the same geometry).
+  const auto layer_seed = [](std::uint8_t selector, const storage::LayerRecord& encoded, bool with_blob) {
+    const std::string input = fuzz::JoinLayerInput(selector, encoded.meta_json, with_blob ? encoded.data : "");
     const fuzz::LayerInput in = fuzz::SplitLayerInput(input);
-    storage::LayerRecord record;
-    record.meta_json = in.meta_json;
-    record.data = in.blob;
-    const std::size_t cells = in.kind == 0   ? fuzz::layer_codec::DecodeOccupancy(record).grid.cells.size()
-                              : in.kind == 1 ? fuzz::layer_codec::DecodeLogOdds(record).cells.size()
-                              : in.kind == 2 ? fuzz::layer_codec::DecodeLabels(record).cells.size()
-                                             : fuzz::layer_codec::ParseMeta(record).size();
-    if (cells != expected_cells) throw std::logic_error("a layer seed does not decode to what was encoded");
+    const storage::LayerRecord record = in.Record();
+    namespace lc = fuzz::layer_codec;
+    using D = fuzz::LayerDecoder;
+    storage::LayerRecord again;
+    again.kind = record.kind;
+    switch (in.decoder()) {
+      case D::kOccupancyLayer: lc::EncodeLayer(lc::DecodeOccupancyLayer(record), again); break;
+      case D::kProbabilityLayer: lc::EncodeLayer(lc::DecodeProbabilityLayer(record), again); break;
+      case D::kLabelLayer: lc::EncodeLayer(lc::DecodeLabelLayer(record), again); break;
+      case D::kFusedMeta: lc::EncodeLayer(lc::DecodeFusedMeta(record), again); break;
+      case D::kOccupancyMeta: again.meta_json = lc::MetaToJson(lc::DecodeOccupancyMeta(record)).dump(); break;
+      case D::kProbabilityMeta: again.meta_json = lc::MetaToJson(lc::DecodeProbabilityMeta(record)).dump(); break;
+      case D::kLabelMeta: again.meta_json = lc::MetaToJson(lc::DecodeLabelMeta(record)).dump(); break;
+      case D::kGeometry: {
+        const json::Json geometry = json::ToJson(lc::DecodeGeometry(record));
+        if (geometry == json::Json::parse(record.meta_json).at("geometry")) again.meta_json = record.meta_json;
+        break;
+      }
+    }
+    if (record.kind != encoded.kind || again.kind != record.kind || again.meta_json != record.meta_json ||
+        again.data != record.data) {
+      throw std::logic_error("a layer seed does not decode to what was encoded");
+    }
     return input;
   };
   std::vector<std::uint16_t> depth(8 * 6);
@@ -82,31 +102,59 @@ int main(int argc, char** argv) {
     put(8, name, blob);
   }
 
-  // Layer records as the grid service stores them (meta JSON + blob per kind).
-  const json::Json geometry = {{"width_cells", 8}, {"height_cells", 6}, {"resolution_m", 0.1}, {"origin", {-0.4, -0.3, 0.0}}};
-  put(9, "layer-occupancy", decodes(
-      fuzz::JoinLayerInput(0, json::Json({{"geometry", geometry}, {"map_server", fuzz::layer_codec::MapServerMetaToJson(meta)}}).dump(),
-                           fuzz::layer_codec::EncodeImageBlob(grey)), 48));
-  engine::LogOddsGrid log_odds;
-  log_odds.geometry = fuzz::layer_codec::GeometryFromMeta({{"geometry", geometry}});
-  log_odds.cells.assign(48, 0.0f);
-  log_odds.cells[5] = 0.85f;
-  log_odds.cells[30] = -0.4f;
-  put(9, "layer-probability", decodes(
-      fuzz::JoinLayerInput(1, json::Json({{"geometry", geometry}, {"base", "floor"},
-                                          {"log_odds", {{"hit", 0.7}, {"miss", 0.4}, {"clamp_min", 0.12}, {"clamp_max", 0.97}}}}).dump(),
-                           fuzz::layer_codec::EncodeLogOddsBlob(log_odds)), 48));
-  engine::LabelGrid labels;
-  labels.geometry = log_odds.geometry;
-  labels.cells.assign(48, 0);
-  labels.cells[10] = labels.cells[11] = 1;
-  labels.cells[40] = 2;
-  put(9, "layer-label", decodes(
-      fuzz::JoinLayerInput(2, json::Json({{"geometry", geometry}, {"base", "floor"}, {"labels", {{"1", "kitchen"}, {"2", "hall"}}}}).dump(),
-                           fuzz::layer_codec::EncodeLabelBlob(labels)), 48));
-  put(9, "layer-fused-meta", decodes(
-      fuzz::JoinLayerInput(3, json::Json({{"geometry", geometry}, {"op", "and_not"},
-                                          {"operands", {{{"layer", "floor"}, {"threshold", 0.5}}}}}).dump(), ""), 3));
+  // Layer records as the grid service stores them (storage/layer_codec.h: meta JSON + blob per kind), whole, and
+  // the metadata alone as read without the blob.
+  namespace lc = fuzz::layer_codec;
+  using D = fuzz::LayerDecoder;
+  const auto selector = [](D decoder, LayerKind kind = LayerKind::kOccupancy) {
+    return static_cast<std::uint8_t>(static_cast<int>(decoder) + 8 * static_cast<int>(kind));
+  };
+  GridGeometry geometry;
+  geometry.width_cells = 8;
+  geometry.height_cells = 6;
+  geometry.resolution_m = 0.1;
+  geometry.origin_x_m = -0.4;
+  geometry.origin_y_m = -0.3;
+  storage::LayerRecord record;
+  lc::OccupancyLayer occupancy;
+  occupancy.meta.geometry = geometry;
+  occupancy.meta.map_server = meta;
+  occupancy.meta.ignored_yaml_keys = {"frame_id"};
+  occupancy.image_pixels = grey.pixels;
+  lc::EncodeLayer(occupancy, record);
+  put(9, "layer-occupancy", layer_seed(selector(D::kOccupancyLayer), record, true));
+  put(9, "layer-occupancy-meta", layer_seed(selector(D::kOccupancyMeta), record, false));
+  lc::ProbabilityLayer probability;
+  probability.meta.geometry = geometry;
+  probability.meta.base = "floor";
+  probability.meta.log_odds.hit_probability = 0.7;
+  probability.meta.log_odds.miss_probability = 0.4;
+  probability.meta.log_odds.clamp_min_probability = 0.12;
+  probability.meta.log_odds.clamp_max_probability = 0.97;
+  probability.meta.observations = 2;
+  probability.log_odds.assign(48, 0.0f);
+  probability.log_odds[5] = 0.85f;
+  probability.log_odds[30] = -0.4f;
+  lc::EncodeLayer(probability, record);
+  put(9, "layer-probability", layer_seed(selector(D::kProbabilityLayer), record, true));
+  put(9, "layer-probability-meta", layer_seed(selector(D::kProbabilityMeta), record, false));
+  lc::LabelLayer label;
+  label.meta.geometry = geometry;
+  label.meta.base = "floor";
+  label.meta.labels = {{1, "kitchen"}, {2, "hall"}};
+  label.label_ids.assign(48, 0);
+  label.label_ids[10] = label.label_ids[11] = 1;
+  label.label_ids[40] = 2;
+  lc::EncodeLayer(label, record);
+  put(9, "layer-label", layer_seed(selector(D::kLabelLayer), record, true));
+  put(9, "layer-label-meta", layer_seed(selector(D::kLabelMeta), record, false));
+  lc::FusedLayerMeta fused;
+  fused.geometry = geometry;
+  fused.op = FuseOp::kAndNot;
+  fused.operands = {{"floor", 0.5}};
+  lc::EncodeLayer(fused, record);
+  put(9, "layer-fused-meta", layer_seed(selector(D::kFusedMeta), record, false));
+  put(9, "layer-fused-geometry", layer_seed(selector(D::kGeometry, LayerKind::kFused), record, false));
   std::printf("%d seeds in %s\n", n, dir.c_str());
   return 0;
 }
