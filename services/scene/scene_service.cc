@@ -1,6 +1,7 @@
 #include "services/scene/scene_service.h"
 
 #include "services/scene/scene_service_internal.h"
+#include "services/events/transitional_analysis_json.h"  // TRANSITIONAL
 #include "engine/scene/depth_image.h"
 #include "engine/scene/projection.h"
 
@@ -183,7 +184,7 @@ Json SceneService::StoreKeyframe(Model& m, const std::string& kind, std::int64_t
     for (const Json& used : report.value("models_used", Json::array())) n.merged_scenes.push_back(used.at("scene").get<std::int64_t>());
     n.depth_mm = &m.last_depth_mm;
     n.background_mm = &background_mm;
-    out["analysis"] = listener_->OnKeyframe(n);
+    out["analysis"] = TransitionalAnalysisJson(listener_->OnKeyframe(n));
   }
   return out;
 }
