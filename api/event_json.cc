@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "api/route_params.h"
+#include "services/events/event_details.h"
 #include "schema/error.h"
 
 namespace anchordb::api {
@@ -42,22 +43,14 @@ Json SegmentJson(const engine::SegmentSummary& s) {
   return {{"centroid_m", Vec3(s.centroid_m)}, {"extent_m", Vec3(s.extent_m)}, {"points", s.points}};
 }
 
-Json DetailsJson(const EventDetails& d) {
-  Json j = Json::object();
-  if (d.segment) j["segment"] = SegmentJson(*d.segment);
-  if (d.move) {
-    j["from_m"] = Vec3(d.move->from_m);
-    j["size_similarity"] = d.move->size_similarity;
-    j["removal_event"] = OrNull(d.move->removal_event);
-  }
-  if (d.visibility) {
-    const engine::Visibility& v = *d.visibility;
-    j["visibility"] = {{"confirmed", v.confirmed}, {"seen_through", v.seen_through}, {"hidden", v.hidden},
-                       {"unmeasured", v.unmeasured}, {"outside", v.outside}};
-  }
-  if (d.background_scene) j["background_scene"] = *d.background_scene;
-  if (d.labels) j["labels"] = *d.labels;
-  return j;
+// {key: [item...], "next_after" when the page is full}.
+template <typename T, typename F>
+Json PageJson(const char* key, const std::vector<T>& items, const std::optional<std::int64_t>& next_after, F item_json) {
+  Json list = Json::array();
+  for (const auto& item : items) list.push_back(item_json(item));
+  Json out = {{key, list}};
+  if (next_after) out["next_after"] = *next_after;
+  return out;
 }
 
 Json PlacementJson(const WherePlacement& p) {
@@ -144,16 +137,10 @@ Json EventJson(const EventView& e) {
   return {{"id", e.id}, {"type", e.type}, {"detection", e.detection}, {"stamp_ns", e.stamp_ns},
           {"scene", OrNull(e.scene_id)}, {"action_layer", OrNull(e.action_layer)}, {"instance", OrNull(e.instance_id)},
           {"segment", OrNull(e.segment_id)}, {"label", OrNull(e.label)}, {"explanation", e.explanation},
-          {"details", DetailsJson(e.details)}, {"evidence", evidence}};
+          {"details", Json::parse(EncodeEventDetails(e.details))}, {"evidence", evidence}};
 }
 
-Json EventPageJson(const EventPage& page) {
-  Json list = Json::array();
-  for (const auto& e : page.events) list.push_back(EventJson(e));
-  Json out = {{"events", list}};
-  if (page.next_after) out["next_after"] = *page.next_after;
-  return out;
-}
+Json EventPageJson(const EventPage& page) { return PageJson("events", page.events, page.next_after, EventJson); }
 
 Json InstanceJson(const InstanceView& r) {
   return {{"id", r.id}, {"kind", r.kind}, {"status", r.status}, {"labels", Json(r.labels)},
@@ -162,13 +149,7 @@ Json InstanceJson(const InstanceView& r) {
           {"last_scene", OrNull(r.last_scene_id)}, {"created_ns", r.created_ns}, {"updated_ns", r.updated_ns}};
 }
 
-Json InstancePageJson(const InstancePage& page) {
-  Json list = Json::array();
-  for (const auto& r : page.instances) list.push_back(InstanceJson(r));
-  Json out = {{"instances", list}};
-  if (page.next_after) out["next_after"] = *page.next_after;
-  return out;
-}
+Json InstancePageJson(const InstancePage& page) { return PageJson("instances", page.instances, page.next_after, InstanceJson); }
 
 Json HistoryJson(const InstanceHistory& h) {
   Json list = Json::array();

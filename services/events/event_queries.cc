@@ -75,7 +75,7 @@ LabelResult EventService::LabelInstance(const std::string& map, std::int64_t id,
     e.explanation = engine::LabelledExplanation(from_operator);
     EventDetails details;
     details.labels = engine::LabelDistribution(weights);
-    e.details_json = EncodeDetails(details);
+    e.details_json = EncodeEventDetails(details);
     e.id = storage::InsertEvent(c, e);
     return LabelResult{ToView(r), ToView(*storage::FindEvent(c, map, e.id)), std::nullopt};
   });

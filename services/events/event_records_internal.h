@@ -8,6 +8,7 @@
 
 #include "engine/events/change_set.h"
 #include "schema/types.h"
+#include "services/events/event_details.h"
 #include "services/events/event_types.h"
 #include "storage/event_repository.h"
 #include "storage/sqlite.h"
@@ -17,10 +18,6 @@ namespace anchordb::services::events_internal {
 // The labels column: {"label": weight, ...}.
 engine::LabelWeights DecodeLabels(const std::string& labels_json);
 std::string EncodeLabels(const engine::LabelWeights& weights);
-
-// The details column of an event.
-EventDetails DecodeDetails(const std::string& details_json);
-std::string EncodeDetails(const EventDetails& details);
 
 // A point sample (blob f32 {n, 3}); empty blob: no points.
 std::string EncodePoints(const std::vector<Eigen::Vector3f>& points_m);

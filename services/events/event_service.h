@@ -69,8 +69,6 @@ class EventService : public KeyframeListener {
   // Applies a newer scene model's background to an old keyframe's raw depth (3.3.4): objects missed then.
   ReanalyseResult Reanalyse(const std::string& map, std::int64_t keyframe_id, const ReanalyseRequest& request);
 
-  const EventSettings& settings() const { return settings_; }
-
   // Tests only: runs between an analysis' computation and its write transaction (map id as argument).
   void SetAnalysisHookForTesting(std::function<void(const std::string& map)> hook) { analysis_hook_ = std::move(hook); }
 

@@ -1,7 +1,7 @@
 // TRANSITIONAL (see transitional_analysis_json.h).
 #include "services/events/transitional_analysis_json.h"
 
-#include "services/events/event_records_internal.h"
+#include "services/events/event_details.h"
 
 namespace anchordb::services {
 
@@ -14,7 +14,7 @@ Json TransitionalAnalysisJson(const KeyframeAnalysis& a) {
     events.push_back({{"id", e.id}, {"type", e.type}, {"detection", e.detection}, {"stamp_ns", e.stamp_ns},
                       {"scene", or_null(e.scene_id)}, {"action_layer", or_null(e.action_layer)},
                       {"instance", or_null(e.instance_id)}, {"segment", or_null(e.segment_id)}, {"label", or_null(e.label)},
-                      {"explanation", e.explanation}, {"details", Json::parse(events_internal::EncodeDetails(e.details))},
+                      {"explanation", e.explanation}, {"details", Json::parse(EncodeEventDetails(e.details))},
                       {"evidence", evidence}});
   }
   Json out = {{"events", events}, {"segments", a.segments}};

@@ -53,13 +53,7 @@ TEST(EventsLostKeyTest, TheMostSimilarRemovalWinsAndTheLaterOneAmongEquals) {
 }
 
 TEST(EventsLostKeyTest, LayerAnalysisInfersTheMoveAndExplainsIt) {
-  LayerKeyframe k;
-  k.keyframe_id = 20;
-  k.scene_id = 3;
-  k.stamp_ns = 500;
-  k.opening_keyframe_id = 19;
-  k.opening_stamp_ns = 400;
-  k.action_layer = 1;
+  LayerKeyframe k = testing::Layer(20, 19, 500, 400, 3, 1);
   k.added_segments = {Box({2.3, 0.1, 0.8}, {0.07, 0.05, 0.03})};
   const ChangeSet c = AnalyseLayerKeyframe(k, {Removed(7, "keys", {0.0, 3.0, 0.9}, kKeysExtent, 300, 41)}, EventRules{});
   ASSERT_EQ(c.events.size(), 1u);
@@ -86,10 +80,7 @@ TEST(EventsLostKeyTest, LayerAnalysisInfersTheMoveAndExplainsIt) {
 TEST(EventsLostKeyTest, ARemovalAndAnAdditionInOneLayerAreAMoveOfThatObject) {
   KnownInstance keys = Instance(7, true, {0.0, 3.0, 0.9}, kKeysExtent);
   keys.labels = {{"keys", 2.0}, {"key", 1.0}};
-  LayerKeyframe k;
-  k.keyframe_id = 20;
-  k.stamp_ns = 500;
-  k.opening_keyframe_id = 19;
+  LayerKeyframe k = testing::Layer(20, 19, 500, 400);
   k.removed_segments = {Box({0.0, 3.0, 0.9}, kKeysExtent)};
   k.added_segments = {Box({2.3, 0.1, 0.8}, kKeysExtent)};
   const ChangeSet c = AnalyseLayerKeyframe(k, {keys}, EventRules{});

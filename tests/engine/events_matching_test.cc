@@ -30,11 +30,7 @@ TEST(EventsMatchingTest, TheNearestFittingInstanceNotTakenYet) {
 TEST(EventsMatchingTest, AMatchedSegmentConfirmsTheInstanceInsteadOfAnEvent) {
   KnownInstance mug = Instance(4, true, {1.0, 0, 0.8}, kMug);
   mug.last_seen_ns = 900;
-  LayerKeyframe k;
-  k.keyframe_id = 11;
-  k.scene_id = 2;
-  k.stamp_ns = 700;
-  k.opening_keyframe_id = 10;
+  LayerKeyframe k = testing::Layer(11, 10, 700, 600, 2);
   k.added_segments = {Box({1.01, 0, 0.8}, kMug, 500, 5), Box({2.0, 0, 0.8}, kMug)};
   const ChangeSet c = AnalyseLayerKeyframe(k, {mug}, EventRules{});
   ASSERT_EQ(c.updates.size(), 1u);
@@ -56,13 +52,7 @@ TEST(EventsMatchingTest, AMatchedSegmentConfirmsTheInstanceInsteadOfAnEvent) {
 }
 
 TEST(EventsMatchingTest, AnUnmatchedRemovalWasBackgroundAndBecomesAnAbsentInstance) {
-  LayerKeyframe k;
-  k.keyframe_id = 11;
-  k.scene_id = 2;
-  k.stamp_ns = 700;
-  k.opening_keyframe_id = 10;
-  k.opening_stamp_ns = 600;
-  k.action_layer = 3;
+  LayerKeyframe k = testing::Layer(11, 10, 700, 600, 2, 3);
   k.removed_segments = {Box({1.0, 0, 0.8}, kMug)};
   const ChangeSet c = AnalyseLayerKeyframe(k, {}, EventRules{});
   ASSERT_EQ(c.new_instances.size(), 1u);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "engine/events/change_set.h"
+#include "engine/events/keyframe_analysis.h"
 
 namespace anchordb::engine::testing {
 
@@ -38,6 +39,19 @@ inline KnownInstance Removed(std::int64_t id, const std::string& label, const Ei
   KnownInstance k = Instance(id, false, position_m, extent_m);
   k.labels = {{label, 1.0}};
   k.last_history = HistoryPoint{removed_ns, false, position_m, removal_event ? std::optional(Ref::Existing(removal_event)) : std::nullopt};
+  return k;
+}
+
+// A keyframe `keyframe_id` of scene `scene_id` closing the action layer that keyframe `opening_id` opened.
+inline LayerKeyframe Layer(std::int64_t keyframe_id, std::int64_t opening_id, std::int64_t stamp_ns, std::int64_t opening_stamp_ns,
+                           std::int64_t scene_id = 0, std::int64_t action_layer = 0) {
+  LayerKeyframe k;
+  k.keyframe_id = keyframe_id;
+  k.scene_id = scene_id;
+  k.stamp_ns = stamp_ns;
+  k.opening_keyframe_id = opening_id;
+  k.opening_stamp_ns = opening_stamp_ns;
+  k.action_layer = action_layer;
   return k;
 }
 
