@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "schema/error.h"
+#include "api/event_json.h"
 #include "services/scene/scene_documents_internal.h"
 
 namespace anchordb::api::scene_json {
@@ -51,7 +52,7 @@ void ParseParams(const Json& p, OpenSceneRequest& r) {
 Json OrNull(const std::optional<std::int64_t>& v) { return v ? Json(*v) : Json(nullptr); }
 
 // The listener's summary of a keyframe (the event layer's), as it is.
-Json AnalysisJson(const KeyframeAnalysis& analysis) { return analysis; }
+Json AnalysisJson(const KeyframeAnalysis& analysis) { return KeyframeAnalysisJson(analysis); }
 
 // "keyframe": id and "analysis" of a keyframe a request stored.
 void AddKeyframe(Json& out, const std::optional<StoredKeyframe>& k) {

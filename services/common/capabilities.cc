@@ -17,12 +17,11 @@ void BindCapabilitySettings(SettingsBinder& b, CapabilityOptions& o) {
 }
 
 Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, const Clock& clock)
-    : grid(store, o.limits, o.grid),
-      scenes(store, o.scene, o.merge),
-      furniture(store, o.furniture),
-      events(store, &furniture, o.events),
-      jobs(store, o.jobs) {
-  (void)clock;  // TRANSITIONAL (issue 11): each service takes the clock when its typed interface lands
+    : grid(store, o.limits, o.grid, clock),
+      scenes(store, o.scene, o.merge, clock),
+      furniture(store, o.furniture, clock),
+      events(store, &furniture, o.events, clock),
+      jobs(store, o.jobs, clock) {
   scenes.SetKeyframeListener(&events);
 }
 

@@ -1,292 +1,218 @@
-// Events, instances, labels from dialog and operators, the where-is question, keyframe pins and re-analysis.
+// Events, instances, labels from dialog and operators, the where-is question and keyframe pins (see event_service.h).
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstring>
+#include <limits>
 
-#include "services/events/event_service.h"
+#include "engine/events/labels.h"
 #include "engine/events/placement.h"
+#include "engine/events/sentences.h"
+#include "engine/events/where.h"
 #include "schema/error.h"
-#include "storage/blob_codec.h"
+#include "schema/json_io.h"
+#include "services/events/event_records_internal.h"
+#include "services/events/event_service.h"
+#include "services/furniture/furniture_service.h"
 #include "storage/furniture_repository.h"
 #include "storage/scene_repository.h"
 
 namespace anchordb::services {
+
+using namespace events_internal;
+using json::Json;
+
 namespace {
 
-std::int64_t NowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+std::string NotFoundText(const char* what, std::int64_t id, const std::string& map) {
+  return std::string(what) + " " + std::to_string(id) + " does not exist in map '" + map + "'";
 }
 
-Json Vec3(const double* v) { return {v[0], v[1], v[2]}; }
-
-void RequireMap(storage::Connection& c, const std::string& map) {
-  if (!storage::FindMap(c, map)) throw Error(ErrorCode::kNotFound, "map '" + map + "' does not exist", "map");
-}
-
-// Lowercase, trimmed, inner whitespace collapsed; refuses empty and overlong labels.
-std::string NormaliseLabel(const std::string& raw, std::size_t max_length, const std::string& field) {
-  std::string out;
-  bool space = false;
-  for (unsigned char ch : raw) {
-    if (std::isspace(ch)) {
-      space = !out.empty();
-      continue;
-    }
-    if (ch < 0x20) throw Error(ErrorCode::kInvalidArgument, "labels must not contain control characters", field);
-    if (space) out.push_back(' '), space = false;
-    out.push_back(static_cast<char>(std::tolower(ch)));
-  }
-  if (out.empty()) throw Error(ErrorCode::kUnprocessable, "label must not be empty", field);
-  if (out.size() > max_length) throw Error(ErrorCode::kUnprocessable, "label is longer than " + std::to_string(max_length) + " characters", field);
-  return out;
-}
-
-Json Distribution(const std::string& labels_json) {
-  const Json w = Json::parse(labels_json);
-  double sum = 0;
-  for (auto it = w.begin(); it != w.end(); ++it) sum += it.value().get<double>();
-  Json out = Json::object();
-  for (auto it = w.begin(); it != w.end(); ++it) out[it.key()] = sum > 0 ? it.value().get<double>() / sum : 0.0;
-  return out;
-}
-
-double LabelProbability(const std::string& labels_json, const std::string& label) {
-  const Json d = Distribution(labels_json);
-  return d.contains(label) ? d[label].get<double>() : 0.0;
-}
-
-storage::InstanceRecord RequireInstance(storage::Connection& c, const std::string& map, std::int64_t id) {
+EventView RequireEvent(storage::Connection& c, const std::string& map, std::int64_t id) {
   RequireMap(c, map);
-  auto r = storage::FindInstance(c, map, id, false);
-  if (!r) throw Error(ErrorCode::kNotFound, "instance " + std::to_string(id) + " does not exist in map '" + map + "'", "instance");
-  return *r;
-}
-
-std::string Source(const Json& body) {
-  const std::string source = json::OptionalString(body, "source", 16).value_or("dialog");
-  if (source != "dialog" && source != "operator") throw Error(ErrorCode::kInvalidArgument, "source must be dialog or operator", "source");
-  return source;
+  const auto e = storage::FindEvent(c, map, id);
+  if (!e) throw Error(ErrorCode::kNotFound, NotFoundText("event", id, map), "event");
+  return ToView(*e);
 }
 
 }  // namespace
 
-Json EventService::EventJson(const storage::EventRecord& e) const {
-  Json evidence = Json::array();
-  for (const auto& k : e.evidence) evidence.push_back({{"keyframe", k.keyframe_id}, {"role", k.role}});
-  return {{"id", e.id}, {"type", e.type}, {"detection", e.detection}, {"stamp_ns", e.stamp_ns},
-          {"scene", e.scene_id ? Json(*e.scene_id) : Json(nullptr)},
-          {"action_layer", e.action_layer ? Json(*e.action_layer) : Json(nullptr)},
-          {"instance", e.instance_id ? Json(*e.instance_id) : Json(nullptr)},
-          {"segment", e.segment_id ? Json(*e.segment_id) : Json(nullptr)},
-          {"label", e.label ? Json(*e.label) : Json(nullptr)}, {"explanation", e.explanation},
-          {"details", Json::parse(e.details_json)}, {"evidence", evidence}};
-}
-
-Json EventService::InstanceJson(const storage::InstanceRecord& r) const {
-  return {{"id", r.id}, {"kind", r.kind}, {"status", r.status}, {"labels", Distribution(r.labels_json)},
-          {"label_locked", r.label_locked}, {"pinned", r.pinned}, {"position_m", Vec3(r.position)},
-          {"extent_m", Vec3(r.extent)}, {"yaw_rad", r.yaw_rad}, {"last_seen_ns", r.last_seen_ns},
-          {"last_scene", r.last_scene_id ? Json(*r.last_scene_id) : Json(nullptr)}, {"created_ns", r.created_ns},
-          {"updated_ns", r.updated_ns}};
-}
-
-Json EventService::ListEvents(const std::string& map, const storage::EventFilter& filter) {
+EventPage EventService::ListEvents(const std::string& map, const EventQuery& query) {
   return store_.Read([&](storage::Connection& c) {
     RequireMap(c, map);
-    Json list = Json::array();
-    const auto events = storage::ListEvents(c, map, filter);
-    for (const auto& e : events) list.push_back(EventJson(e));
-    Json out = {{"events", list}};
-    if (static_cast<int>(events.size()) == filter.limit) out["next_after"] = events.back().id;
+    EventPage out;
+    for (const auto& e : storage::ListEvents(c, map, query)) out.events.push_back(ToView(e));
+    if (static_cast<int>(out.events.size()) == query.limit) out.next_after = out.events.back().id;
     return out;
   });
 }
 
-Json EventService::GetEvent(const std::string& map, std::int64_t id) {
-  return store_.Read([&](storage::Connection& c) {
-    RequireMap(c, map);
-    const auto e = storage::FindEvent(c, map, id);
-    if (!e) throw Error(ErrorCode::kNotFound, "event " + std::to_string(id) + " does not exist in map '" + map + "'", "event");
-    return EventJson(*e);
-  });
+EventView EventService::GetEvent(const std::string& map, std::int64_t id) {
+  return store_.Read([&](storage::Connection& c) { return RequireEvent(c, map, id); });
 }
 
-Json EventService::LabelInstance(const std::string& map, std::int64_t id, const Json& body) {
-  json::RejectUnknownKeys(body, {"label", "source"});
-  const std::string label = NormaliseLabel(json::RequireString(body, "label", 4096), settings_.max_label_length, "label");
-  const std::string source = Source(body);
-  std::lock_guard<std::mutex> lock(analysis_mutex_);
+LabelResult EventService::LabelInstance(const std::string& map, std::int64_t id, const LabelRequest& request) {
+  const std::string label = engine::NormaliseLabel(request.label, settings_.max_label_length, "label");
+  const bool from_operator = request.source == LabelSource::kOperator;
+  std::lock_guard<std::mutex> lock(MapMutex(map));
   return store_.Write([&](storage::Connection& c) {
     storage::InstanceRecord r = RequireInstance(c, map, id);
     if (r.status == "deleted") throw Error(ErrorCode::kConflict, "instance " + std::to_string(id) + " was deleted by an operator", "instance");
-    if (r.label_locked && source != "operator") {
+    if (r.label_locked && !from_operator) {
       throw Error(ErrorCode::kConflict, "instance " + std::to_string(id) + " was labelled by an operator; only an operator relabels it", "label");
     }
-    Json weights = Json::parse(r.labels_json);
-    if (source == "operator") {
-      weights = Json{{label, 1.0}};
-      r.label_locked = true;
-    } else {
-      weights[label] = weights.value(label, 0.0) + 1.0;
-    }
-    r.labels_json = weights.dump();
-    r.updated_ns = NowNs();
+    const engine::LabelWeights weights = engine::AddLabel(DecodeLabels(r.labels_json), label, from_operator);
+    r.label_locked = r.label_locked || from_operator;
+    r.labels_json = EncodeLabels(weights);
+    r.updated_ns = clock_.NowNs();
     storage::UpdateInstance(c, r);
     storage::EventRecord e;
     e.map_id = map;
     e.type = "labelled";
-    e.detection = source;
+    e.detection = from_operator ? "operator" : "dialog";
     e.stamp_ns = r.updated_ns;
     e.instance_id = id;
     e.label = label;
     e.created_ns = r.updated_ns;
-    e.explanation = source == "operator" ? "an operator set the label; automatic processing will not change it"
-                                         : "a person named the object in dialog";
-    e.details_json = Json{{"labels", Distribution(r.labels_json)}}.dump();
+    e.explanation = engine::LabelledExplanation(from_operator);
+    EventDetails details;
+    details.labels = engine::LabelDistribution(weights);
+    e.details_json = EncodeEventDetails(details);
     e.id = storage::InsertEvent(c, e);
-    return Json{{"instance", InstanceJson(r)}, {"event", EventJson(*storage::FindEvent(c, map, e.id))}};
+    return LabelResult{ToView(r), ToView(*storage::FindEvent(c, map, e.id)), std::nullopt};
   });
 }
 
-Json EventService::LabelEvent(const std::string& map, std::int64_t id, const Json& body) {
-  const auto e = store_.Read([&](storage::Connection& c) {
-    RequireMap(c, map);
-    return storage::FindEvent(c, map, id);
-  });
-  if (!e) throw Error(ErrorCode::kNotFound, "event " + std::to_string(id) + " does not exist in map '" + map + "'", "event");
-  if (!e->instance_id) throw Error(ErrorCode::kUnprocessable, "event " + std::to_string(id) + " concerns no instance", "event");
-  Json out = LabelInstance(map, *e->instance_id, body);
-  out["labelled_event"] = id;
+LabelResult EventService::LabelEvent(const std::string& map, std::int64_t event_id, const LabelRequest& request) {
+  const EventView e = store_.Read([&](storage::Connection& c) { return RequireEvent(c, map, event_id); });
+  if (!e.instance_id) throw Error(ErrorCode::kUnprocessable, "event " + std::to_string(event_id) + " concerns no instance", "event");
+  LabelResult out = LabelInstance(map, *e.instance_id, request);
+  out.labelled_event = event_id;
   return out;
 }
 
-Json EventService::CreateInstance(const std::string& map, const Json& body) {
-  json::RejectUnknownKeys(body, {"kind", "label", "position", "extent", "yaw_rad", "stamp"});
-  const std::string kind = json::OptionalString(body, "kind", 16).value_or("furniture");
-  if (kind != "furniture" && kind != "object") throw Error(ErrorCode::kInvalidArgument, "kind must be furniture or object", "kind");
-  const std::string label = NormaliseLabel(json::RequireString(body, "label", 4096), settings_.max_label_length, "label");
+InstanceView EventService::CreateInstance(const std::string& map, const CreateInstanceRequest& request) {
+  const std::string label = engine::NormaliseLabel(request.label, settings_.max_label_length, "label");
+  if ((request.extent_m.array() < 0).any()) throw Error(ErrorCode::kUnprocessable, "extent must not be negative", "extent");
   storage::InstanceRecord r;
   r.map_id = map;
-  r.kind = kind;
-  r.labels_json = Json{{label, 1.0}}.dump();
+  r.kind = request.kind == InstanceKind::kObject ? "object" : "furniture";
+  r.labels_json = EncodeLabels({{label, 1.0}});
   r.label_locked = true;  // entered by an operator
-  const auto vec3 = [&](const char* key, double* out, bool required) {
-    if (!body.contains(key)) {
-      if (required) throw Error(ErrorCode::kInvalidArgument, std::string(key) + " is required: [x, y, z]", key);
-      return;
-    }
-    const Json& v = body[key];
-    if (!v.is_array() || v.size() != 3) throw Error(ErrorCode::kInvalidArgument, std::string(key) + " must be [x, y, z]", key);
-    for (int k = 0; k < 3; ++k) {
-      if (!v[k].is_number() || !std::isfinite(v[k].get<double>())) throw Error(ErrorCode::kInvalidArgument, std::string(key) + " must hold finite numbers", key);
-      out[k] = v[k].get<double>();
-    }
-  };
-  vec3("position", r.position, true);
-  vec3("extent", r.extent, false);
-  for (double e : r.extent) if (e < 0) throw Error(ErrorCode::kUnprocessable, "extent must not be negative", "extent");
-  r.yaw_rad = json::FiniteNumberOr(body, "yaw_rad", 0.0);
-  r.last_seen_ns = body.contains("stamp") ? json::AsStampNs(body["stamp"], "stamp") : NowNs();
-  r.created_ns = r.updated_ns = NowNs();
+  for (int k = 0; k < 3; ++k) r.position[k] = request.position_m[k], r.extent[k] = request.extent_m[k];
+  r.yaw_rad = request.yaw_rad;
+  r.created_ns = r.updated_ns = clock_.NowNs();
+  r.last_seen_ns = request.stamp_ns.value_or(r.created_ns);
   return store_.Write([&](storage::Connection& c) {
     RequireMap(c, map);
     r.id = storage::InsertInstance(c, r);
     storage::AppendHistory(c, {r.id, 0, r.last_seen_ns, true, {r.position[0], r.position[1], r.position[2]}, std::nullopt});
-    return InstanceJson(r);
+    return ToView(r);
   });
 }
 
-Json EventService::ListInstances(const std::string& map, const std::optional<std::string>& label,
-                                 const storage::InstanceFilter& f) {
+InstancePage EventService::ListInstances(const std::string& map, const InstanceQuery& query) {
   return store_.Read([&](storage::Connection& c) {
     RequireMap(c, map);
-    storage::InstanceFilter filter = f;
-    if (label) filter.label = NormaliseLabel(*label, settings_.max_label_length, "label");
-    Json list = Json::array();
-    const auto records = storage::ListInstances(c, map, filter, false);
-    for (const auto& r : records) list.push_back(InstanceJson(r));
-    Json out = {{"instances", list}};
-    if (static_cast<int>(records.size()) == f.limit) out["next_after"] = records.back().id;
+    storage::InstanceFilter filter;
+    if (query.label) filter.label = engine::NormaliseLabel(*query.label, settings_.max_label_length, "label");
+    filter.kind = query.kind;
+    filter.status = query.status;
+    filter.after_id = query.after_id;
+    filter.limit = query.limit;
+    InstancePage out;
+    for (const auto& r : storage::ListInstances(c, map, filter, false)) out.instances.push_back(ToView(r));
+    if (static_cast<int>(out.instances.size()) == query.limit) out.next_after = out.instances.back().id;
     return out;
   });
 }
 
-Json EventService::GetInstance(const std::string& map, std::int64_t id) {
-  return store_.Read([&](storage::Connection& c) { return InstanceJson(RequireInstance(c, map, id)); });
+InstanceView EventService::GetInstance(const std::string& map, std::int64_t id) {
+  return store_.Read([&](storage::Connection& c) { return ToView(RequireInstance(c, map, id)); });
 }
 
-Json EventService::History(const std::string& map, std::int64_t id) {
+InstanceHistory EventService::History(const std::string& map, std::int64_t id) {
   return store_.Read([&](storage::Connection& c) {
-    const auto r = RequireInstance(c, map, id);
-    Json list = Json::array();
-    for (const auto& h : storage::ListHistory(c, id)) {
-      list.push_back({{"seq", h.seq}, {"stamp_ns", h.stamp_ns}, {"present", h.present}, {"position_m", Vec3(h.position)},
-                      {"event", h.event_id ? Json(*h.event_id) : Json(nullptr)}});
-    }
-    return Json{{"instance", InstanceJson(r)}, {"history", list}};
+    InstanceHistory out{ToView(RequireInstance(c, map, id)), {}};
+    for (const auto& h : storage::ListHistory(c, id)) out.history.push_back({h.seq, h.stamp_ns, h.present, Vec(h.position), h.event_id});
+    return out;
   });
 }
 
-Json EventService::PinInstance(const std::string& map, std::int64_t id, bool pinned) {
+InstanceView EventService::PinInstance(const std::string& map, std::int64_t id, bool pinned) {
   return store_.Write([&](storage::Connection& c) {
     auto r = RequireInstance(c, map, id);
     r.pinned = pinned;
-    r.updated_ns = NowNs();
+    r.updated_ns = clock_.NowNs();
     storage::UpdateInstance(c, r);
-    return InstanceJson(r);
+    return ToView(r);
   });
 }
 
-Json EventService::DeleteInstance(const std::string& map, std::int64_t id) {
-  std::lock_guard<std::mutex> lock(analysis_mutex_);
+InstanceView EventService::DeleteInstance(const std::string& map, std::int64_t id) {
+  std::lock_guard<std::mutex> lock(MapMutex(map));
   return store_.Write([&](storage::Connection& c) {
     auto r = RequireInstance(c, map, id);
     r.status = "deleted";
     r.status_locked = true;  // never revived by later matching or the lost-key rule
-    r.updated_ns = NowNs();
+    r.updated_ns = clock_.NowNs();
     storage::UpdateInstance(c, r);
-    return InstanceJson(r);
+    return ToView(r);
   });
 }
 
-Json EventService::Where(const std::string& map, const std::string& raw_label, std::optional<std::int64_t> at_ns) {
-  const std::string label = NormaliseLabel(raw_label, settings_.max_label_length, "label");
-  const std::int64_t now = NowNs();
-  if (at_ns && *at_ns > now) throw Error(ErrorCode::kUnprocessable, "at lies in the future; where answers for the past and now", "at");
+// The one use of FurnitureService::Place: its answer as a where-is placement (nullopt without a furniture graph).
+std::optional<WherePlacement> EventService::GraphPlacement(const std::string& map, const Eigen::Vector3d& p_M,
+                                                           std::optional<std::int64_t> graph) {
+  if (!furniture_ || !graph) return std::nullopt;
+  const std::optional<Placement> place = furniture_->Place(map, p_M, graph);
+  if (!place) return std::nullopt;
+  WherePlacement out;
+  out.graph = place->graph;
+  out.furniture = place->furniture;
+  out.category = place->category;
+  out.name = place->name;
+  out.relation = place->relation;
+  out.frame = place->frame;
+  out.gap_m = place->gap_m;
+  out.phrase = place->phrase;
+  return out;
+}
+
+WhereAnswer EventService::Where(const std::string& map, const WhereRequest& request) {
+  const std::string label = engine::NormaliseLabel(request.label, settings_.max_label_length, "label");
+  const std::optional<std::int64_t> at_ns = request.at_ns;
+  if (at_ns && *at_ns > clock_.NowNs()) throw Error(ErrorCode::kUnprocessable, "at lies in the future; where answers for the past and now", "at");
   // One read lease for the answer and the furniture it may be placed against.
   std::vector<engine::FurniturePiece> pieces;
   engine::grounding::Viewpoint viewer;  // for plain geometry: the camera that saw the object last (else the origin)
   std::optional<std::int64_t> graph;    // the map's newest furniture graph
-  Json out = store_.Read([&](storage::Connection& c) -> Json {
+  WhereAnswer out = store_.Read([&](storage::Connection& c) {
     RequireMap(c, map);
     storage::InstanceFilter f;
     f.kind = "object";
     f.label = label;
     f.limit = 100000;
-    std::optional<storage::InstanceRecord> best;
-    std::optional<storage::HistoryRecord> best_h;
-    double best_p = 0.0;
-    for (const auto& r : storage::ListInstances(c, map, f, false)) {
-      const double p = LabelProbability(r.labels_json, label);
-      if (p <= 0.0) continue;
-      const auto h = storage::HistoryAt(c, r.id, at_ns.value_or(std::numeric_limits<std::int64_t>::max()));
-      if (!h) continue;
-      if (!best || p > best_p + 1e-9 || (std::abs(p - best_p) <= 1e-9 && h->stamp_ns > best_h->stamp_ns)) best = r, best_h = h, best_p = p;
+    const auto instances = storage::ListInstances(c, map, f, false);
+    std::vector<engine::WhereCandidate> candidates;
+    std::vector<std::optional<storage::HistoryRecord>> positions;
+    for (const auto& r : instances) {
+      const double p = engine::LabelProbability(DecodeLabels(r.labels_json), label);
+      positions.push_back(p > 0.0 ? storage::HistoryAt(c, r.id, at_ns.value_or(std::numeric_limits<std::int64_t>::max())) : std::nullopt);
+      candidates.push_back({p, positions.back() ? std::optional(positions.back()->stamp_ns) : std::nullopt});
     }
-    if (!best) {
-      throw Error(ErrorCode::kNotFound, "nothing labelled '" + label + "' is known" + (at_ns ? " at that time" : ""), "label");
-    }
-    Json evidence = Json::array();
-    std::string how = "observed";
-    if (best_h->event_id) {
-      if (const auto e = storage::FindEvent(c, map, *best_h->event_id)) {
-        for (const auto& k : e->evidence) evidence.push_back({{"keyframe", k.keyframe_id}, {"role", k.role}, {"event", e->id}});
-        how = e->type == "moved" ? "inferred" : e->detection;
+    const int chosen = engine::ChooseWhereCandidate(candidates);
+    if (chosen < 0) throw Error(ErrorCode::kNotFound, "nothing labelled '" + label + "' is known" + (at_ns ? " at that time" : ""), "label");
+    const storage::InstanceRecord& best = instances[static_cast<std::size_t>(chosen)];
+    const storage::HistoryRecord& h = *positions[static_cast<std::size_t>(chosen)];
+    WhereAnswer a;
+    std::optional<engine::PositionOrigin> origin;
+    if (h.event_id) {
+      if (const auto e = storage::FindEvent(c, map, *h.event_id)) {
+        for (const auto& k : e->evidence) a.evidence.push_back({k.keyframe_id, k.role, e->id});
+        origin = engine::PositionOrigin{e->type, e->detection};
       }
     }
-    if (best->last_scene_id) {
-      if (const auto scene = storage::FindScene(c, map, *best->last_scene_id, false)) {
+    if (best.last_scene_id) {
+      if (const auto scene = storage::FindScene(c, map, *best.last_scene_id, false)) {
         const Pose3 pose = json::AsPose3(Json::parse(scene->pose_json), "pose");
         const Eigen::Vector3d axis = pose.orientation * Eigen::Vector3d::UnitZ();  // the optical axis in the map
         viewer.position_m = pose.position_m.head<2>();
@@ -299,70 +225,54 @@ Json EventService::Where(const std::string& map, const std::string& raw_label, s
     furniture.kind = "furniture";
     furniture.limit = 10000;
     for (const auto& r : storage::ListInstances(c, map, furniture, false)) {
-      const Json d = Distribution(r.labels_json);
-      pieces.push_back({std::to_string(r.id), d.empty() ? "furniture" : d.begin().key(), {r.position[0], r.position[1]},
+      const engine::LabelWeights names = DecodeLabels(r.labels_json);
+      pieces.push_back({std::to_string(r.id), names.empty() ? "furniture" : names.begin()->first, {r.position[0], r.position[1]},
                         {r.extent[0], r.extent[1]}, r.yaw_rad});
     }
-    // Confidence: how sure the label is, times how the position is known (seen, merged from another visit, inferred).
-    const double position_confidence = how == "observed" ? 0.95 : how == "meanwhile" ? 0.85 : how == "inferred" ? 0.7 : 0.8;
-    return Json{{"label", label}, {"instance", best->id}, {"present", best_h->present},
-                {"position_m", Vec3(best_h->position)}, {"seen_ns", best_h->stamp_ns}, {"how", how},
-                {"evidence", evidence}, {"confidence", best_p * position_confidence}, {"label_probability", best_p},
-                {"at_ns", at_ns ? Json(*at_ns) : Json(nullptr)}};
+    a.label = label;
+    a.instance_id = best.id;
+    a.present = h.present;
+    a.position_m = Vec(h.position);
+    a.seen_ns = h.stamp_ns;
+    a.how = engine::HowKnown(origin);
+    a.label_probability = candidates[static_cast<std::size_t>(chosen)].label_probability;
+    a.confidence = engine::WhereConfidence(a.label_probability, a.how);
+    a.at_ns = at_ns;
+    return a;
   });
-  const Eigen::Vector3d p(out["position_m"][0].get<double>(), out["position_m"][1].get<double>(), out["position_m"][2].get<double>());
-  std::optional<Json> place;
-  if (const auto placed = furniture_ && graph ? furniture_->Place(map, p, graph) : std::nullopt) {
-    place = Json{{"graph", placed->graph}, {"furniture", placed->furniture}, {"category", placed->category},
-                 {"name", placed->name}, {"relation", placed->relation},
-                 {"frame", placed->frame ? Json(*placed->frame) : Json(nullptr)}, {"gap_m", placed->gap_m},
-                 {"phrase", placed->phrase}};
+  out.placement = GraphPlacement(map, out.position_m, graph);
+  if (!out.placement && !pieces.empty()) {  // plain geometry: the nearest furniture instance an operator entered
+    const engine::Placement placed = engine::PlaceObject(out.position_m, pieces, viewer);
+    const engine::FurniturePiece& piece = pieces[static_cast<std::size_t>(placed.piece)];
+    const engine::PlacementWords words = engine::DescribePlacement(placed, piece.name);
+    WherePlacement g;
+    g.furniture_instance = std::stoll(piece.id);
+    g.name = piece.name;
+    g.gap_m = placed.gap_m;
+    g.relation = words.relation;
+    g.frame = "geometry";
+    g.phrase = words.phrase;
+    out.placement = g;
   }
-  if (!place) {  // plain geometry: the nearest furniture instance an operator entered
-    const std::vector<engine::FurniturePiece>& list = pieces;
-    if (!list.empty()) {
-      const engine::Placement placed = engine::PlaceObject(p, list, viewer);
-      const auto& piece = list[static_cast<std::size_t>(placed.piece)];
-      place = Json{{"furniture_instance", std::stoll(piece.id)}, {"name", piece.name}, {"gap_m", placed.gap_m},
-                   {"relation", placed.on ? "on" : engine::grounding::RelationId(placed.relative)}, {"frame", "geometry"},
-                   {"phrase", placed.on ? "on the " + piece.name
-                                        : std::string(engine::grounding::RelationPhrase(placed.relative)) + " the " + piece.name}};
-    }
-  }
-  std::string where = place ? (*place)["phrase"].get<std::string>()
-                            : "at (" + std::to_string(p.x()).substr(0, 5) + ", " + std::to_string(p.y()).substr(0, 5) + ") in the map";
-  out["placement"] = place ? *place : Json(nullptr);
-  const bool present = out["present"].get<bool>();
-  // English agreement by the label's last letter ("keys are", "the mug is"): good enough for spoken answers.
-  const bool plural = label.back() == 's';
-  const std::string is = at_ns ? (plural ? " were " : " was ") : (plural ? " are " : " is ");
-  out["sentence"] = present ? "The " + label + is + where + "."
-                            : "The " + label + (plural ? " were" : " was") + " last seen " + where + "; " +
-                                  (plural ? "they were" : "it was") + " taken away and " + (plural ? "have" : "has") +
-                                  " not been seen since.";
+  const std::string where = out.placement ? out.placement->phrase : engine::MapPositionPhrase(out.position_m);
+  out.sentence = engine::WhereSentence(label, where, out.present, at_ns.has_value());
   return out;
 }
 
-Json EventService::PinKeyframe(const std::string& map, std::int64_t id, bool pinned) {
+KeyframePinned EventService::PinKeyframe(const std::string& map, std::int64_t id, bool pinned) {
   return store_.Write([&](storage::Connection& c) {
     RequireMap(c, map);
-    if (!storage::SetKeyframePinned(c, map, id, pinned)) {
-      throw Error(ErrorCode::kNotFound, "keyframe " + std::to_string(id) + " does not exist in map '" + map + "'", "keyframe");
-    }
-    return Json{{"keyframe", id}, {"pinned", pinned}};
+    if (!storage::SetKeyframePinned(c, map, id, pinned)) throw Error(ErrorCode::kNotFound, NotFoundText("keyframe", id, map), "keyframe");
+    return KeyframePinned{id, pinned};
   });
 }
 
-Json EventService::SetKeyframeRelevance(const std::string& map, std::int64_t id, const Json& body) {
-  json::RejectUnknownKeys(body, {"relevance"});
-  const double relevance = json::RequireFiniteNumber(body, "relevance");
+KeyframeRelevance EventService::SetKeyframeRelevance(const std::string& map, std::int64_t id, double relevance) {
   if (relevance < 0.0 || relevance > 1.0) throw Error(ErrorCode::kUnprocessable, "relevance must be in [0, 1]", "relevance");
   return store_.Write([&](storage::Connection& c) {
     RequireMap(c, map);
-    if (!storage::SetKeyframeRelevance(c, map, id, relevance)) {
-      throw Error(ErrorCode::kNotFound, "keyframe " + std::to_string(id) + " does not exist in map '" + map + "'", "keyframe");
-    }
-    return Json{{"keyframe", id}, {"relevance", relevance}};
+    if (!storage::SetKeyframeRelevance(c, map, id, relevance)) throw Error(ErrorCode::kNotFound, NotFoundText("keyframe", id, map), "keyframe");
+    return KeyframeRelevance{id, relevance};
   });
 }
 

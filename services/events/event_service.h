@@ -1,76 +1,91 @@
 #pragma once
 // Change events, object instances over time and the lost-key question (thesis 3.3.4, 3.5.2, 1.4; SPEC §4.4).
 //
-// Every keyframe an observation stores is analysed here:
-// - begin keyframe of a model that merged earlier ones (a later visit): what stands in front of the merged
-//   background and matches no instance known to be present was added meanwhile; instances known to be present whose
-//   points the new view now sees through were removed meanwhile;
-// - every later keyframe (manual, settled, end) closes an action layer: comparing it with the keyframe that opened
-//   the layer, against the newer background, gives what was added and removed while observing.
-// Movable points are clustered in 3D (engine/events/segments.h) and matched to instances by position and size.
-// Lost-key rule: an unlabelled addition observed after the removal of a labelled object, of compatible size, is that
-// object, moved; the event says so and why. Operator edits (relabel, delete, pin) are locked against automatic
-// processing.
+// Every keyframe an observation stores is analysed here (the rules are in engine/events/keyframe_analysis.h): a
+// begin keyframe of a later visit finds what was added and removed meanwhile, every later keyframe what was added and
+// removed in the action layer it closes, and an observed addition may continue a labelled removal (the lost-key
+// rule). The heavy part (clustering, visibility) runs on a snapshot outside any write transaction; the short write
+// that follows re-reads what the analysis read and, if another writer changed it meanwhile, the analysis is computed
+// again (a bounded number of times, then inside the write). Analyses of one map run one at a time; different maps
+// concurrently. Operator edits (relabel, delete) are locked against automatic processing.
+//
+// Errors (anchordb::Error): kNotFound for a missing map, event, instance, keyframe or scene (field names it);
+// kInvalidArgument / kUnprocessable for bad values; kConflict for edits an operator's decision forbids.
+#include <functional>
+#include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 
-#include "services/furniture/furniture_service.h"
-#include "services/scene/keyframe_listener.h"
 #include "engine/events/changes.h"
-#include "storage/event_repository.h"
+#include "engine/events/rules.h"
+#include "schema/clock.h"
+#include "services/events/event_types.h"
+#include "services/scene/keyframe_listener.h"
 #include "storage/store.h"
-#include "services/common/transitional_json.h"
 
 namespace anchordb::services {
+
+class FurnitureService;
 
 struct EventSettings {
   engine::ChangeParams change;
   engine::MatchParams match;
-  double move_min_size_similarity = 0.45;  // lost-key rule: a less similar addition is another object
-  double removed_min_seen_through = 0.6;   // fraction of an instance's visible points seen through -> removed
-  int removed_min_visible_points = 20;     // fewer visible points prove nothing
+  double move_min_size_similarity = engine::kMoveMinSizeSimilarity;  // lost-key rule: a less similar addition is another object
+  double removed_min_seen_through = engine::kRemovedMinSeenThrough;  // fraction of an instance's visible points seen through -> removed
+  int removed_min_visible_points = engine::kRemovedMinVisiblePoints;  // fewer visible points prove nothing
   std::size_t max_label_length = 64;
 };
 
 class EventService : public KeyframeListener {
  public:
-  EventService(storage::Store& store, FurnitureService* furniture, EventSettings settings);
+  // `furniture` (may be null) places where-is answers against furniture graphs.
+  EventService(storage::Store& store, FurnitureService* furniture, EventSettings settings,
+               const Clock& clock = SystemClock::Instance());
 
-  Json OnKeyframe(const KeyframeNotice& notice) override;
+  KeyframeAnalysis OnKeyframe(const KeyframeNotice& notice) override;
 
-  Json ListEvents(const std::string& map, const storage::EventFilter& filter);
-  Json GetEvent(const std::string& map, std::int64_t id);
-  Json LabelEvent(const std::string& map, std::int64_t id, const Json& body);
+  EventPage ListEvents(const std::string& map, const EventQuery& query);
+  EventView GetEvent(const std::string& map, std::int64_t id);
+  // Labels the instance the event concerns (kUnprocessable when it concerns none).
+  LabelResult LabelEvent(const std::string& map, std::int64_t event_id, const LabelRequest& request);
 
-  Json CreateInstance(const std::string& map, const Json& body);  // operator-entered furniture or objects
-  Json ListInstances(const std::string& map, const std::optional<std::string>& label, const storage::InstanceFilter& f);
-  Json GetInstance(const std::string& map, std::int64_t id);
-  Json History(const std::string& map, std::int64_t id);
-  Json LabelInstance(const std::string& map, std::int64_t id, const Json& body);
-  Json PinInstance(const std::string& map, std::int64_t id, bool pinned);
-  Json DeleteInstance(const std::string& map, std::int64_t id);
+  InstanceView CreateInstance(const std::string& map, const CreateInstanceRequest& request);
+  InstancePage ListInstances(const std::string& map, const InstanceQuery& query);
+  InstanceView GetInstance(const std::string& map, std::int64_t id);
+  InstanceHistory History(const std::string& map, std::int64_t id);
+  // Dialog adds evidence for a label; an operator's label replaces the others and locks it (kConflict for dialog
+  // afterwards, and for a deleted instance).
+  LabelResult LabelInstance(const std::string& map, std::int64_t id, const LabelRequest& request);
+  InstanceView PinInstance(const std::string& map, std::int64_t id, bool pinned);
+  // Kept as a tombstone (status deleted) so its events stay consistent; never revived.
+  InstanceView DeleteInstance(const std::string& map, std::int64_t id);
 
-  // at_ns: the state at that time (nullopt: now).
-  Json Where(const std::string& map, const std::string& label, std::optional<std::int64_t> at_ns);
+  WhereAnswer Where(const std::string& map, const WhereRequest& request);
 
-  Json PinKeyframe(const std::string& map, std::int64_t id, bool pinned);
-  Json SetKeyframeRelevance(const std::string& map, std::int64_t id, const Json& body);
+  KeyframePinned PinKeyframe(const std::string& map, std::int64_t id, bool pinned);
+  KeyframeRelevance SetKeyframeRelevance(const std::string& map, std::int64_t id, double relevance);
   // Applies a newer scene model's background to an old keyframe's raw depth (3.3.4): objects missed then.
-  Json Reanalyse(const std::string& map, std::int64_t keyframe_id, const Json& body);
+  ReanalyseResult Reanalyse(const std::string& map, std::int64_t keyframe_id, const ReanalyseRequest& request);
+
+  // Tests only: runs between an analysis' computation and its write transaction (map id as argument).
+  void SetAnalysisHookForTesting(std::function<void(const std::string& map)> hook) { analysis_hook_ = std::move(hook); }
 
  private:
-  Json AnalyseBegin(storage::Connection& c, const KeyframeNotice& n);
-  Json AnalyseLayer(storage::Connection& c, const KeyframeNotice& n);
-  Json AddedObject(storage::Connection& c, const std::string& map, const engine::Segment& s, std::int64_t segment_id,
-                   const std::string& detection, std::int64_t stamp_ns, std::optional<std::int64_t> scene,
-                   std::optional<std::int64_t> layer, std::vector<storage::EvidenceRecord> evidence);
-  Json InstanceJson(const storage::InstanceRecord& r) const;
-  Json EventJson(const storage::EventRecord& e) const;
+  std::mutex& MapMutex(const std::string& map);
+  engine::EventRules Rules() const;
+  std::optional<WherePlacement> GraphPlacement(const std::string& map, const Eigen::Vector3d& p_M,
+                                               std::optional<std::int64_t> graph);
 
   storage::Store& store_;
   FurnitureService* furniture_;
   EventSettings settings_;
-  std::mutex analysis_mutex_;  // keyframe analyses of one server run one at a time (instances are shared state)
+  const Clock& clock_;
+  std::function<void(const std::string&)> analysis_hook_;
+  std::mutex map_mutexes_mutex_;
+  // One per map: the analyses and instance edits of a map run one at a time (instances are shared state).
+  std::map<std::string, std::unique_ptr<std::mutex>> map_mutexes_;
 };
 
 }  // namespace anchordb::services

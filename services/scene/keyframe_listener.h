@@ -3,12 +3,12 @@
 // and the background at that moment, the camera, and whether the model merged earlier models.
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
-#include "schema/json_io.h"
 #include "schema/types.h"
-#include "services/common/transitional_json.h"
+#include "services/events/event_types.h"
 
 namespace anchordb::services {
 
@@ -23,15 +23,23 @@ struct KeyframeNotice {
   Eigen::Isometry3d X_MapCamera = Eigen::Isometry3d::Identity();
   double beta = 0.03;
   std::vector<std::int64_t> merged_scenes;  // earlier models merged into this one (empty: nothing to compare with)
-  const std::vector<std::uint16_t>* depth_mm = nullptr;
+  const std::vector<std::uint16_t>* depth_mm = nullptr;      // [mm], K.width * K.height, row-major
   const std::vector<std::uint16_t>* background_mm = nullptr;
+};
+
+// What the analysis of one keyframe found: the events it created, how many segments it judged, and the action layer
+// the keyframe closed (nullopt for a begin keyframe, or when no keyframe opened a layer before it).
+struct KeyframeAnalysis {
+  std::vector<EventView> events;
+  int segments = 0;
+  std::optional<std::int64_t> action_layer;
 };
 
 class KeyframeListener {
  public:
   virtual ~KeyframeListener() = default;
-  // Runs after the keyframe is stored; returns a summary for the response (events created).
-  virtual Json OnKeyframe(const KeyframeNotice& notice) = 0;
+  // Runs after the keyframe is stored (in its own transactions); the summary goes into the frame's response.
+  virtual KeyframeAnalysis OnKeyframe(const KeyframeNotice& notice) = 0;
 };
 
 }  // namespace anchordb::services

@@ -164,9 +164,6 @@ struct FrameInput {
   std::optional<double> depth_scale;            // units per metre, overrides the model's
 };
 
-// The summary the keyframe listener (the event layer) returns for a keyframe; opaque here.
-using KeyframeAnalysis = decltype(std::declval<KeyframeListener&>().OnKeyframe(std::declval<const KeyframeNotice&>()));
-
 struct StoredKeyframe {
   std::int64_t id = 0;
   KeyframeKind kind = KeyframeKind::kBegin;

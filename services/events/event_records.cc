@@ -1,0 +1,121 @@
+// Stored formats of the event layer and the typed views of its records (see event_records_internal.h).
+#include "services/events/event_records_internal.h"
+
+#include <algorithm>
+#include <cstring>
+#include <tuple>
+
+#include "schema/error.h"
+#include "schema/json_io.h"
+#include "storage/blob_codec.h"
+#include "storage/repositories.h"
+
+namespace anchordb::services::events_internal {
+
+using json::Json;
+
+namespace {
+
+template <typename T>
+std::vector<T> DecodeArray(const std::string& blob, std::size_t count) {
+  const auto d = storage::DecodeBlob(blob);
+  if (d.bytes.size() % sizeof(T) != 0 || (count && d.bytes.size() != count * sizeof(T))) {
+    throw Error(ErrorCode::kInternal, "stored array does not match the camera");
+  }
+  std::vector<T> out(d.bytes.size() / sizeof(T));
+  std::memcpy(out.data(), d.bytes.data(), d.bytes.size());
+  return out;
+}
+
+}  // namespace
+
+engine::LabelWeights DecodeLabels(const std::string& labels_json) { return Json::parse(labels_json).get<engine::LabelWeights>(); }
+
+std::string EncodeLabels(const engine::LabelWeights& weights) { return Json(weights).dump(); }
+
+std::string EncodePoints(const std::vector<Eigen::Vector3f>& points) {
+  std::vector<float> flat;
+  flat.reserve(points.size() * 3);
+  for (const auto& p : points) flat.insert(flat.end(), {p.x(), p.y(), p.z()});
+  return storage::EncodeBlob(storage::BlobElement::kF32, {static_cast<std::uint32_t>(points.size()), 3}, storage::AsBytes(flat), 1);
+}
+
+std::vector<Eigen::Vector3f> DecodePoints(const std::string& blob) {
+  std::vector<Eigen::Vector3f> out;
+  if (blob.empty()) return out;
+  const std::vector<float> flat = DecodeF32(blob);
+  for (std::size_t i = 0; i + 2 < flat.size(); i += 3) out.emplace_back(flat[i], flat[i + 1], flat[i + 2]);
+  return out;
+}
+
+std::vector<std::uint16_t> DecodeDepthMm(const std::string& blob, std::size_t count) { return DecodeArray<std::uint16_t>(blob, count); }
+std::vector<float> DecodeF32(const std::string& blob) { return DecodeArray<float>(blob, 0); }
+
+PinholeIntrinsics IntrinsicsOf(const std::string& intrinsics_json) {
+  const Json j = Json::parse(intrinsics_json);
+  return {j.at("width").get<int>(), j.at("height").get<int>(), j.at("fx").get<double>(),
+          j.at("fy").get<double>(), j.at("cx").get<double>(), j.at("cy").get<double>()};
+}
+
+EventView ToView(const storage::EventRecord& e) {
+  EventView v;
+  v.id = e.id;
+  v.type = e.type;
+  v.detection = e.detection;
+  v.stamp_ns = e.stamp_ns;
+  v.scene_id = e.scene_id;
+  v.action_layer = e.action_layer;
+  v.instance_id = e.instance_id;
+  v.segment_id = e.segment_id;
+  v.label = e.label;
+  v.explanation = e.explanation;
+  v.details = DecodeEventDetails(e.details_json);
+  for (const auto& k : e.evidence) v.evidence.push_back({k.keyframe_id, k.role});
+  return v;
+}
+
+InstanceView ToView(const storage::InstanceRecord& r) {
+  InstanceView v;
+  v.id = r.id;
+  v.kind = r.kind;
+  v.status = r.status;
+  v.labels = engine::LabelDistribution(DecodeLabels(r.labels_json));
+  v.label_locked = r.label_locked;
+  v.pinned = r.pinned;
+  v.position_m = Vec(r.position);
+  v.extent_m = Vec(r.extent);
+  v.yaw_rad = r.yaw_rad;
+  v.last_seen_ns = r.last_seen_ns;
+  v.last_scene_id = r.last_scene_id;
+  v.created_ns = r.created_ns;
+  v.updated_ns = r.updated_ns;
+  return v;
+}
+
+void RequireMap(storage::Connection& c, const std::string& map) {
+  if (!storage::FindMap(c, map)) throw Error(ErrorCode::kNotFound, "map '" + map + "' does not exist", "map");
+}
+
+storage::InstanceRecord RequireInstance(storage::Connection& c, const std::string& map, std::int64_t id) {
+  RequireMap(c, map);
+  auto r = storage::FindInstance(c, map, id, false);
+  if (!r) throw Error(ErrorCode::kNotFound, "instance " + std::to_string(id) + " does not exist in map '" + map + "'", "instance");
+  return *r;
+}
+
+bool SameRecord(const storage::InstanceRecord& a, const storage::InstanceRecord& b) {
+  const auto columns = [](const storage::InstanceRecord& r) {
+    return std::tie(r.id, r.map_id, r.kind, r.status, r.labels_json, r.label_locked, r.status_locked, r.pinned, r.yaw_rad,
+                    r.sample, r.last_seen_ns, r.last_scene_id, r.created_ns, r.updated_ns);
+  };
+  return columns(a) == columns(b) && std::equal(a.position, a.position + 3, b.position) &&
+         std::equal(a.extent, a.extent + 3, b.extent);
+}
+
+bool SameRecord(const storage::HistoryRecord& a, const storage::HistoryRecord& b) {
+  return std::tie(a.instance_id, a.seq, a.stamp_ns, a.present, a.event_id) ==
+             std::tie(b.instance_id, b.seq, b.stamp_ns, b.present, b.event_id) &&
+         std::equal(a.position, a.position + 3, b.position);
+}
+
+}  // namespace anchordb::services::events_internal

@@ -1,0 +1,126 @@
+// EventService with SceneService on one Store, without HTTP: a keyframe analysis of one map in flight does not hold
+// up writes of another map, and an analysis whose inputs another writer changed meanwhile is computed again.
+#include "services/events/event_service.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <future>
+#include <thread>
+
+#include "services/scene/scene_service.h"
+#include "storage/repositories.h"
+#include "storage/scene_repository.h"
+#include "tests/support/temp_dir.h"
+
+namespace anchordb::services {
+namespace {
+
+constexpr int kW = 160, kH = 120;
+
+// A wall 2 m in front of the camera, with a box at 1.5 m where `box` says.
+std::vector<std::uint16_t> Depth(bool box) {
+  std::vector<std::uint16_t> d(kW * kH, 2000);
+  if (box) for (int v = 40; v < 80; ++v) for (int u = 60; u < 100; ++u) d[v * kW + u] = 1500;
+  return d;
+}
+
+class EventServiceTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    storage::StoreOptions so;
+    so.path = dir_.File("events.sqlite");
+    store_ = std::make_unique<storage::Store>(so);
+    store_->Write([](storage::Connection& c) {
+      storage::InsertMap(c, {"a", "A", 1});
+      storage::InsertMap(c, {"b", "B", 1});
+    });
+    scenes_ = std::make_unique<SceneService>(*store_, SceneLimits{});
+    events_ = std::make_unique<EventService>(*store_, nullptr, EventSettings{});
+    scenes_->SetKeyframeListener(events_.get());
+  }
+  void TearDown() override {
+    scenes_.reset();
+    events_.reset();
+    store_.reset();
+  }
+  // The scene calls of these tests (one place to adapt when the scene service's requests change).
+  std::int64_t OpenScene(const std::string& map) {
+    OpenSceneRequest r;
+    r.camera = {kW, kH, 130.0, 130.0, 79.5, 59.5};
+    r.stamp_ns = 1'000'000'000'000LL;
+    return scenes_->Open(map, r).id;
+  }
+  FrameResult AddFrame(const std::string& map, std::int64_t scene, const std::vector<std::uint16_t>& depth, std::int64_t stamp_ns) {
+    FrameInput in;
+    in.body = std::string_view(reinterpret_cast<const char*>(depth.data()), depth.size() * 2);
+    in.png = false;
+    in.stamp_ns = stamp_ns;
+    return scenes_->AddFrame(map, scene, in);
+  }
+  std::size_t Keyframes(const std::string& map, std::int64_t scene) {
+    return store_->Read([&](storage::Connection& c) { return storage::ListKeyframes(c, map, scene).size(); });
+  }
+
+  testing::TempDir dir_;
+  std::unique_ptr<storage::Store> store_;
+  std::unique_ptr<SceneService> scenes_;
+  std::unique_ptr<EventService> events_;
+};
+
+TEST_F(EventServiceTest, AFrameOfAnotherMapCommitsWhileAKeyframeAnalysisIsInFlight) {
+  std::promise<void> entered, release;
+  std::shared_future<void> released = release.get_future().share();
+  std::atomic<bool> blocked_once{false};
+  events_->SetAnalysisHookForTesting([&](const std::string& map) {
+    if (map != "a" || blocked_once.exchange(true)) return;
+    entered.set_value();
+    released.wait();
+  });
+  const std::int64_t a = OpenScene("a"), b = OpenScene("b");
+  // Map a's first frame stores its begin keyframe, whose analysis stops before its write transaction.
+  std::future<FrameResult> frame_a = std::async(std::launch::async, [&] { return AddFrame("a", a, Depth(false), 1'000'000'000'100LL); });
+  ASSERT_EQ(entered.get_future().wait_for(std::chrono::seconds(30)), std::future_status::ready);
+  // Meanwhile map b's first frame: its keyframe (a write) and the keyframe's analysis.
+  std::future<FrameResult> frame_b = std::async(std::launch::async, [&] { return AddFrame("b", b, Depth(false), 1'000'000'000'100LL); });
+  const bool b_committed = frame_b.wait_for(std::chrono::seconds(20)) == std::future_status::ready;
+  release.set_value();  // before asserting, so that both threads finish
+  ASSERT_TRUE(b_committed) << "a write on map b waited for the analysis of map a";
+  EXPECT_TRUE(frame_b.get().keyframe.has_value());
+  EXPECT_EQ(Keyframes("b", b), 1u);
+  const FrameResult out_a = frame_a.get();
+  ASSERT_TRUE(out_a.keyframe.has_value());
+  EXPECT_TRUE(out_a.keyframe->analysis.has_value());
+}
+
+TEST_F(EventServiceTest, AnAnalysisWhoseInstancesChangedMeanwhileIsComputedAgain) {
+  CreateInstanceRequest cup;
+  cup.kind = InstanceKind::kObject;
+  cup.label = "cup";
+  cup.position_m = {5.0, 5.0, 0.0};
+  const std::int64_t cup_id = events_->CreateInstance("a", cup).id;
+  int analyses = 0;
+  events_->SetAnalysisHookForTesting([&](const std::string& map) {
+    if (map != "a" || ++analyses != 2) return;
+    events_->PinInstance("a", cup_id, true);  // another writer changes the map's instances before the write
+  });
+  const std::int64_t a = OpenScene("a");
+  AddFrame("a", a, Depth(false), 1'000'000'000'100LL);  // begin keyframe: analysis 1
+  EXPECT_EQ(analyses, 1);
+  AddFrame("a", a, Depth(true), 1'000'000'000'200LL);
+  const KeyframeResult keyframe = scenes_->Keyframe("a", a);  // closes action layer 0: analysis 2, changed, analysis 3
+  EXPECT_EQ(analyses, 3);
+  ASSERT_TRUE(keyframe.keyframe.analysis.has_value());
+  const KeyframeAnalysis& analysis = *keyframe.keyframe.analysis;
+  ASSERT_EQ(analysis.events.size(), 1u);
+  EXPECT_EQ(analysis.events[0].type, "added");
+  EXPECT_EQ(analysis.action_layer, 0);
+  const EventPage page = events_->ListEvents("a", EventQuery{});
+  ASSERT_EQ(page.events.size(), 1u);  // written once
+  EXPECT_TRUE(events_->GetInstance("a", cup_id).pinned);
+  EXPECT_EQ(events_->ListInstances("a", InstanceQuery{}).instances.size(), 2u);
+}
+
+}  // namespace
+}  // namespace anchordb::services
