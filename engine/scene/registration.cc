@@ -8,6 +8,8 @@
 #include <pcl/registration/icp.h>
 #include <pcl/search/kdtree.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -20,6 +22,32 @@ struct IcpTargetData {
 };
 
 namespace {
+
+// Whether point-to-plane ICP against `target` is singular: the 6x6 normal equations sum [(p - c) x n, n] over the
+// target's points; a zero eigenvalue (relative to the largest) is a motion no correspondence can observe (one plane:
+// in-plane translation and rotation about its normal). PCL's solver inverts that matrix and returns NaN then.
+bool PointToPlaneIsSingular(const pcl::PointCloud<pcl::PointNormal>& target) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  std::size_t n = 0;
+  for (const auto& p : target) {
+    if (!std::isfinite(p.normal_x)) continue;
+    c += Eigen::Vector3d(p.x, p.y, p.z), ++n;
+  }
+  if (n < 6) return true;
+  c /= static_cast<double>(n);
+  Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+  for (const auto& p : target) {
+    if (!std::isfinite(p.normal_x)) continue;
+    const Eigen::Vector3d normal(p.normal_x, p.normal_y, p.normal_z);
+    Eigen::Matrix<double, 6, 1> row;
+    row << (Eigen::Vector3d(p.x, p.y, p.z) - c).cross(normal), normal;
+    A += row * row.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(A);
+  const auto& ev = eig.eigenvalues();  // ascending
+  return !(ev(5) > 0.0) || ev(0) <= 1e-9 * ev(5);
+}
+
 
 // Range-limited, thinned to at most max_input_points, voxel-downsampled, then evenly subsampled to max_points.
 pcl::PointCloud<pcl::PointXYZ>::Ptr ToDownsampledCloud(const std::vector<Eigen::Vector3f>& points, const IcpParams& p,
@@ -86,6 +114,7 @@ IcpResult AlignIcp(const std::vector<Eigen::Vector3f>& source, const IcpTarget& 
   result.target_points = target.points;
   if (src_xyz->size() < 10 || target.points < 10 || !target.data) return result;
   const IcpTargetData& tgt = *target.data;
+  if (PointToPlaneIsSingular(*tgt.cloud)) return result;  // not converged: the prior pose stands
   // The source needs no normals (point-to-plane uses the target's); zero normals keep PCL's type uniform.
   auto src = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
   src->reserve(src_xyz->size());
@@ -107,6 +136,7 @@ IcpResult AlignIcp(const std::vector<Eigen::Vector3f>& source, const IcpTarget& 
     for (const auto& p : *src) {
       const Eigen::Vector4f t = T * Eigen::Vector4f(p.x, p.y, p.z, 1.0f);
       q.x = t.x(), q.y = t.y(), q.z = t.z();
+      if (!t.allFinite()) continue;
       if (tgt.tree->nearestKSearch(q, 1, index, d2) > 0 && d2[0] <= max_d2) sum += d2[0], ++n;
     }
     return n ? sum / n : std::numeric_limits<double>::infinity();
@@ -137,7 +167,14 @@ IcpResult AlignIcp(const std::vector<Eigen::Vector3f>& source, const IcpTarget& 
     icp.align(aligned, T);
     converged = icp.hasConverged();
     if (!converged) break;
-    T = icp.getFinalTransformation();
+    // Degenerate geometry (a single plane: singular normal equations) can yield a non-finite transform; the pose is
+    // then kept as it was (and nothing non-finite reaches PCL's kd-tree, whose assertion would abort the process).
+    const Eigen::Matrix4f next = icp.getFinalTransformation();
+    if (!next.allFinite()) {
+      converged = false;
+      break;
+    }
+    T = next;
   }
   result.converged = converged;
   result.fitness_m2 = fitness(T);
