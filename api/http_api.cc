@@ -64,7 +64,7 @@ const std::string& PathParams::operator[](const std::string& name) const {
 }
 
 void Router::Add(std::string method, std::string pattern, Role role, std::string summary, Handler handler) {
-  const bool write = method != "GET";
+  const bool write = role >= Role::kWriter;  // a reader's POST (viewpoints, :describe) computes, it changes nothing
   routes_.push_back({std::move(method), std::move(pattern), role, std::move(summary), std::move(handler), write});
 }
 
@@ -177,14 +177,6 @@ void HttpApi::Dispatch(const Route& route, const std::vector<std::string>& names
     ~WriteSlot() { if (counter) --*counter; }
   } slot;
   try {
-    if (route.write) {
-      slot.counter = &writes_in_flight_;
-      if (++writes_in_flight_ > options_.max_pending_writes) {
-        metrics_.RecordRefusedWrite();
-        throw Error(ErrorCode::kOverloaded, "too many writes in flight (" + std::to_string(options_.max_pending_writes) +
-                                                "); retry after 1 s");
-      }
-    }
     // cpp-httplib checks its payload limit against Content-Length only; a chunked body is checked here.
     if (req.body.size() > options_.max_body_bytes) {
       throw Error(ErrorCode::kPayloadTooLarge, "request body exceeds " + std::to_string(options_.max_body_bytes) + " bytes");
@@ -206,6 +198,15 @@ void HttpApi::Dispatch(const Route& route, const std::vector<std::string>& names
     for (const auto& [key, value] : req.params) {
       if (!IsUtf8(key)) throw Error(ErrorCode::kInvalidArgument, "a query parameter name is not valid UTF-8");
       if (!IsUtf8(value)) throw Error(ErrorCode::kInvalidArgument, "query parameter is not valid UTF-8", key);
+    }
+    // After auth and the request's own checks: a refused client hears 401/403/400 first, and takes no slot.
+    if (route.write) {
+      slot.counter = &writes_in_flight_;
+      if (++writes_in_flight_ > options_.max_pending_writes) {
+        metrics_.RecordRefusedWrite();
+        throw Error(ErrorCode::kOverloaded, "too many writes in flight (" + std::to_string(options_.max_pending_writes) +
+                                                "); retry after 1 s");
+      }
     }
     std::vector<std::string> values;
     for (std::size_t i = 1; i < req.matches.size(); ++i) {

@@ -46,7 +46,8 @@ struct Route {
   Role role = Role::kReader;
   std::string summary;
   Handler handler;
-  // Changes the memory: counted against the admission limit (503 + Retry-After beyond it). Every method but GET.
+  // Changes the memory: counted against the admission limit (503 + Retry-After beyond it). Every route that needs
+  // the writer or admin role.
   bool write = false;
 };
 

@@ -25,7 +25,8 @@ void BindServerSettings(SettingsBinder& b, ServerOptions& o) {
   b.Bind("busy_timeout_ms", "how long SQLite waits for a lock before giving up [ms]", &o.busy_timeout_ms, 0, 600000);
   b.Bind("reader_connections", "read-only SQLite connections in the pool", &o.reader_connections, 1, 64);
   b.Bind("max_body_bytes", "largest accepted request body [bytes]", &o.max_body_bytes, 1024, 4e9);
-  b.Bind("max_pending_writes", "write requests handled at once; one more is answered 503 with Retry-After at once",
+  b.Bind("max_pending_writes", "write requests (writer or admin routes) handled at once; one more is answered 503 with "
+                               "Retry-After at once (effective only below `threads`, which bounds all requests in service)",
          &o.max_pending_writes, 1, 1e6);
   b.Bind("log_requests", "log one line per request to stderr", &o.log_requests);
   b.Bind("grounding_knowledge", "JSON file {categories, frame_prior} replacing the built-in grounding tables "

@@ -41,4 +41,12 @@ std::optional<MoveMatch> LostKeyMove(const Eigen::Vector3d& added_extent_m, cons
   return out;
 }
 
+std::optional<std::int64_t> ChooseReanalysisModel(std::int64_t keyframe_scene_id,
+                                                  const std::vector<ReanalysisCandidate>& candidates) {
+  for (const auto& c : candidates) {
+    if (c.scene_id > keyframe_scene_id && c.frames > 0 && !c.forgotten) return c.scene_id;
+  }
+  return std::nullopt;
+}
+
 }  // namespace anchordb::engine

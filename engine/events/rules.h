@@ -48,4 +48,17 @@ struct MoveMatch {
 std::optional<MoveMatch> LostKeyMove(const Eigen::Vector3d& added_extent_m, const std::vector<KnownInstance>& instances,
                                      std::int64_t stamp_ns, double min_size_similarity);
 
+// Re-analysis of an old keyframe (3.3.4) applies the background of a newer model of the same place: a model whose
+// camera stands within `kReanalysisRadiusM` of the keyframe's, opened after the keyframe's own model, that took
+// frames and was not forgotten. `candidates` come nearest first; the first that qualifies is chosen.
+inline constexpr double kReanalysisRadiusM = 0.5;
+inline constexpr int kReanalysisCandidates = 20;  // nearest models examined
+struct ReanalysisCandidate {
+  std::int64_t scene_id = 0;
+  std::int64_t frames = 0;
+  bool forgotten = false;
+};
+std::optional<std::int64_t> ChooseReanalysisModel(std::int64_t keyframe_scene_id,
+                                                  const std::vector<ReanalysisCandidate>& candidates);
+
 }  // namespace anchordb::engine

@@ -324,4 +324,13 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
   return result;
 }
 
+std::optional<CameraCorrection> CorrectedCameraPose(const MergeResult& result, const Eigen::Isometry3d& X_MapCamera) {
+  const MergeModelReport* best = nullptr;
+  for (const auto& r : result.models) {
+    if (r.icp_applied && (!best || r.icp.fitness_m2 < best->icp.fitness_m2)) best = &r;
+  }
+  if (!best) return std::nullopt;
+  return CameraCorrection{best->id, X_MapCamera * best->icp.correction.inverse()};
+}
+
 }  // namespace anchordb::engine

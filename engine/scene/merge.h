@@ -7,6 +7,7 @@
 // earlier model; only the sources are downsampled per model (registration.h). The naive
 // strategies of the evaluation (transform [+ ICP] + plain Algorithm 1) share the same code path.
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -101,6 +102,15 @@ struct MergeResult {
   std::vector<MergeModelReport> models;
   MergeTiming timing;
 };
+
+// The registration also localises the new camera against the earlier models: the applied ICP correction with the
+// least fitness gives the pose the new model's segments are placed with, X_MapCamera * correction^-1 (map frame).
+// Nullopt when no correction was applied.
+struct CameraCorrection {
+  std::int64_t model_id = 0;  // the earlier model whose registration gave it
+  Eigen::Isometry3d X_MapCamera_corrected = Eigen::Isometry3d::Identity();
+};
+std::optional<CameraCorrection> CorrectedCameraPose(const MergeResult& result, const Eigen::Isometry3d& X_MapCamera);
 
 // Builds the initial state of a new scene model at X_MapCamera from the current frame and earlier models, then
 // applies the frame with Algorithm 1. `state` must be fresh (NewSceneModel of the current camera).

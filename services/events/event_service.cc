@@ -3,6 +3,8 @@
 // snapshot (see event_service.h).
 #include "services/events/event_service.h"
 
+#include "engine/events/rules.h"
+
 #include <algorithm>
 
 #include "engine/events/keyframe_analysis.h"
@@ -97,10 +99,7 @@ EventService::EventService(storage::Store& store, FurnitureService* furniture, E
     : store_(store), furniture_(furniture), settings_(settings), clock_(clock) {}
 
 std::mutex& EventService::MapMutex(const std::string& map) {
-  std::lock_guard<std::mutex> lock(map_mutexes_mutex_);
-  auto& m = map_mutexes_[map];
-  if (!m) m = std::make_unique<std::mutex>();
-  return *m;
+  return map_mutexes_[std::hash<std::string>{}(map) % kMapStripes];
 }
 
 engine::EventRules EventService::Rules() const {
@@ -177,13 +176,11 @@ ReanalyseResult EventService::Reanalyse(const std::string& map, std::int64_t key
     } else {
       storage::SceneFilter f;
       f.near_m = json::AsPose3(Json::parse(own->pose_json), "pose").position_m;
-      f.radius_m = 0.5;
-      f.limit = 20;
-      for (const auto& r : storage::ListScenes(c, map, f)) {
-        if (r.id <= kf->scene_id || r.frames == 0 || r.forgotten_ns) continue;
-        newer = storage::FindScene(c, map, r.id, true);
-        break;
-      }
+      f.radius_m = engine::kReanalysisRadiusM;
+      f.limit = engine::kReanalysisCandidates;
+      std::vector<engine::ReanalysisCandidate> candidates;
+      for (const auto& r : storage::ListScenes(c, map, f)) candidates.push_back({r.id, r.frames, r.forgotten_ns.has_value()});
+      if (const auto chosen = engine::ChooseReanalysisModel(kf->scene_id, candidates)) newer = storage::FindScene(c, map, *chosen, true);
       if (!newer) throw Error(ErrorCode::kConflict, "no newer scene model of this place has a background to apply", "scene");
     }
     if (newer->background.empty() || newer->started_ns < kf->stamp_ns) {

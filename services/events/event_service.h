@@ -14,6 +14,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <array>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -83,9 +84,10 @@ class EventService : public KeyframeListener {
   EventSettings settings_;
   const Clock& clock_;
   std::function<void(const std::string&)> analysis_hook_;
-  std::mutex map_mutexes_mutex_;
-  // One per map: the analyses and instance edits of a map run one at a time (instances are shared state).
-  std::map<std::string, std::unique_ptr<std::mutex>> map_mutexes_;
+  // Analyses of one map run one at a time (instances are shared state); maps hash onto a fixed set of mutexes, so
+  // analyses of different maps run concurrently (unless two maps share a stripe) and no request can grow the set.
+  static constexpr std::size_t kMapStripes = 64;
+  std::array<std::mutex, kMapStripes> map_mutexes_;
 };
 
 }  // namespace anchordb::services

@@ -1,5 +1,6 @@
 #include "services/scene/scene_documents_internal.h"
 
+#include <cmath>
 #include <limits>
 
 namespace anchordb::services::scene_documents {
@@ -33,8 +34,12 @@ MergedModel MergedModelFromDocument(const Json& j) {
   r.fitness_m2 = NumberOrNaN(icp, "fitness_m2");
   r.fitness_before_m2 = NumberOrNaN(icp, "fitness_before_m2");
   const Json correction = icp.value("correction", Json::object());
+  // Stored by this code as three numbers (NaN is stored as null); anything else reads as NaN, never as an error.
   const Json t = correction.value("translation_m", Json::array({0.0, 0.0, 0.0}));
-  r.correction_translation_m = {t.at(0).get<double>(), t.at(1).get<double>(), t.at(2).get<double>()};
+  const auto element = [&t](std::size_t k) {
+    return t.is_array() && k < t.size() && t[k].is_number() ? t[k].get<double>() : std::nan("");
+  };
+  r.correction_translation_m = {element(0), element(1), element(2)};
   r.correction_rotation_rad = NumberOrNaN(correction, "rotation_rad");
   r.source_points = icp.value("source_points", std::size_t{0});
   r.target_points = icp.value("target_points", std::size_t{0});

@@ -120,19 +120,12 @@ void SceneService::MergeFirstFrame(Model& m, const std::vector<std::uint16_t>& d
         snapshot.priors, params);
     MergeReport report = m.merge;
     for (const auto& r : result.models) report.models_used.push_back(ReportOf(r));
-    // The registration also localises this camera against the earlier models: the best applied ICP correction gives
-    // the pose the segments of this model are placed with (X_MC_corrected = X_MC * correction^-1).
-    const engine::MergeModelReport* best_icp = nullptr;
-    for (const auto& r : result.models) {
-      if (r.icp_applied && (!best_icp || r.icp.fitness_m2 < best_icp->icp.fitness_m2)) best_icp = &r;
-    }
-    if (best_icp) {
-      const Eigen::Isometry3d corrected = X_MC * best_icp->icp.correction.inverse();
+    if (const auto corrected = engine::CorrectedCameraPose(result, X_MC)) {
       Pose3 p;
-      p.position_m = corrected.translation();
-      p.orientation = Eigen::Quaterniond(corrected.linear());
+      p.position_m = corrected->X_MapCamera_corrected.translation();
+      p.orientation = Eigen::Quaterniond(corrected->X_MapCamera_corrected.linear());
       report.X_MapCamera_corrected = p;
-      report.corrected_by_scene = best_icp->id;
+      report.corrected_by_scene = corrected->model_id;
     }
     report.performed = true;
     report.pending = false;
