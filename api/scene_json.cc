@@ -51,14 +51,11 @@ void ParseParams(const Json& p, OpenSceneRequest& r) {
 
 Json OrNull(const std::optional<std::int64_t>& v) { return v ? Json(*v) : Json(nullptr); }
 
-// The listener's summary of a keyframe (the event layer's), as it is.
-Json AnalysisJson(const KeyframeAnalysis& analysis) { return KeyframeAnalysisJson(analysis); }
-
 // "keyframe": id and "analysis" of a keyframe a request stored.
 void AddKeyframe(Json& out, const std::optional<StoredKeyframe>& k) {
   if (!k) return;
   out["keyframe"] = k->id;
-  if (k->analysis) out["analysis"] = AnalysisJson(*k->analysis);
+  if (k->analysis) out["analysis"] = KeyframeAnalysisJson(*k->analysis);
 }
 
 }  // namespace

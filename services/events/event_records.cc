@@ -92,9 +92,6 @@ InstanceView ToView(const storage::InstanceRecord& r) {
   return v;
 }
 
-void RequireMap(storage::Connection& c, const std::string& map) {
-  if (!storage::FindMap(c, map)) throw Error(ErrorCode::kNotFound, "map '" + map + "' does not exist", "map");
-}
 
 storage::InstanceRecord RequireInstance(storage::Connection& c, const std::string& map, std::int64_t id) {
   RequireMap(c, map);

@@ -12,6 +12,7 @@
 #include "services/events/event_types.h"
 #include "storage/event_repository.h"
 #include "storage/sqlite.h"
+#include "services/common/require.h"
 
 namespace anchordb::services::events_internal {
 
@@ -34,7 +35,7 @@ EventView ToView(const storage::EventRecord& e);
 InstanceView ToView(const storage::InstanceRecord& r);
 
 // Throws Error(kNotFound, field "map") when the map does not exist.
-void RequireMap(storage::Connection& c, const std::string& map);
+using services::RequireMap;
 // The instance (without its sample); Error(kNotFound) for a missing map or instance.
 storage::InstanceRecord RequireInstance(storage::Connection& c, const std::string& map, std::int64_t id);
 

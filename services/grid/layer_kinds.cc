@@ -27,9 +27,6 @@ LayerKind KindOf(const LayerSpec& spec) {
 
 // ---------------------------------------------------------------- MapLayers
 
-void RequireMap(storage::Connection& c, const std::string& map) {
-  if (!storage::FindMap(c, map)) throw Error(ErrorCode::kNotFound, "map '" + map + "' does not exist", "map");
-}
 
 MapLayers::MapLayers(storage::Connection& c, const std::string& map) : c_(c), map_(map) { RequireMap(c, map); }
 

@@ -16,11 +16,12 @@
 #include "services/grid/grid_types.h"
 #include "storage/layer_codec.h"
 #include "storage/repositories.h"
+#include "services/common/require.h"
 
 namespace anchordb::services::grid_detail {
 
 // Checks the map exists (kNotFound, field "map").
-void RequireMap(storage::Connection& c, const std::string& map);
+using services::RequireMap;
 
 // The layers of one map, read inside a read or write transaction. Constructing it checks the map exists
 // (kNotFound, field "map").

@@ -11,6 +11,7 @@
 #include "services/scene/scene_service.h"
 #include "storage/blob_codec.h"
 #include "storage/scene_repository.h"
+#include "services/common/require.h"
 
 namespace anchordb::services {
 
@@ -50,9 +51,7 @@ inline std::vector<std::uint16_t> ToMillimetres(const std::vector<float>& metres
 // The stored camera pose the computations use (checked and renormalised like a request's).
 inline Pose3 StoredPose(const std::string& pose_json) { return json::AsPose3(json::Json::parse(pose_json), "pose"); }
 
-inline void RequireMap(storage::Connection& c, const std::string& map) {
-  if (!storage::FindMap(c, map)) throw Error(ErrorCode::kNotFound, "map '" + map + "' does not exist", "map");
-}
+using services::RequireMap;
 
 // A copy of `base` carrying the encoded state (blobs, frames, next state_version), for UpdateSceneState.
 inline storage::SceneRecord StateRecord(const storage::SceneRecord& base, const PinholeIntrinsics& K,
