@@ -4,7 +4,6 @@
 #include <cstdlib>
 
 #include "schema/error.h"
-#include "storage/layer_codec_json.h"
 
 namespace anchordb::api::grid_json {
 
@@ -231,7 +230,7 @@ Json ToJson(const LayerInfo& l) {
               {"version", l.version},   {"created_ns", l.created_ns}, {"updated_ns", l.updated_ns},
               {"stored_bytes", l.stored_bytes}};
   // The metadata document as stored (storage/layer_codec.h), key by key.
-  const Json meta = std::visit([](const auto& m) { return storage::MetaToJson(m); }, l.meta);
+  const Json meta = Json::parse(LayerMetaDocument(l.meta));
   for (const auto& [key, value] : meta.items()) out[key] = value;
   if (l.statistics) out["statistics"] = std::visit([](const auto& s) { return StatisticsJson(s); }, *l.statistics);
   return out;

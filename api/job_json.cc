@@ -18,10 +18,10 @@ Json Document(const std::string& text) { return Json::parse(text, nullptr, false
 
 }  // namespace
 
-storage::ForgetRequest ParseForgetRequest(const Json& body) {
+services::ForgetRequest ParseForgetRequest(const Json& body) {
   if (!body.is_object()) throw Error(ErrorCode::kInvalidJson, "request body must be a JSON object");
   json::RejectUnknownKeys(body, {"policy", "dry_run", "now"});
-  storage::ForgetRequest out;
+  services::ForgetRequest out;
   out.dry_run = json::BoolOr(body, "dry_run", false);
   if (body.contains("now") && !body["now"].is_null()) out.now_ns = json::AsStampNs(body["now"], "now");
   auto it = body.find("policy");
@@ -31,7 +31,7 @@ storage::ForgetRequest ParseForgetRequest(const Json& body) {
   json::RejectUnknownKeys(p, {"superseded_models", "keyframe_max_age_s", "keep_relevance_at_least", "event_max_age_s",
                               "vacuum"},
                           "policy");
-  storage::ForgetPolicy& policy = out.policy;
+  services::ForgetPolicy& policy = out.policy;
   policy.drop_superseded = json::BoolOr(p, "superseded_models", policy.drop_superseded, "policy");
   policy.keyframe_max_age_s = ParseAge(p, "keyframe_max_age_s", policy.keyframe_max_age_s);
   policy.event_max_age_s = ParseAge(p, "event_max_age_s", policy.event_max_age_s);

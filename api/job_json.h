@@ -2,7 +2,7 @@
 // JSON <-> the typed requests and results of JobService (the :forget, /backups and /jobs routes).
 #include "schema/json_io.h"
 #include "services/jobs/job_types.h"
-#include "storage/forget_policy.h"
+#include "services/jobs/job_types.h"
 
 namespace anchordb::api {
 
@@ -12,7 +12,7 @@ using json::Json;
 // "dry_run", "now"}; every key optional, an age null = never expires. Not an object: kInvalidJson; unknown keys and
 // wrong types: Error kInvalidArgument naming the field. The ranges are checked by JobService::SubmitForget
 // (services/jobs/forget_job.h: CheckForgetRequest).
-storage::ForgetRequest ParseForgetRequest(const Json& body);
+services::ForgetRequest ParseForgetRequest(const Json& body);
 // {"label"?: id}
 services::BackupRequest ParseBackupRequest(const Json& body);
 

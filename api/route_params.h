@@ -10,7 +10,7 @@
 
 #include "api/http_api.h"
 #include "schema/error.h"
-#include "storage/repositories.h"
+#include "services/grid/grid_types.h"
 
 namespace anchordb::api::params {
 
@@ -124,7 +124,7 @@ inline std::string RequireQueryId(const httplib::Request& req, const std::string
 }
 
 // A box `name`=min_x,min_y,max_x,max_y [m] in the map frame, or nullopt when absent.
-inline std::optional<storage::Bbox> QueryBbox(const httplib::Request& req, const std::string& name = "bbox") {
+inline std::optional<services::Bbox> QueryBbox(const httplib::Request& req, const std::string& name = "bbox") {
   const auto text = Query(req, name);
   if (!text) return std::nullopt;
   double v[4];
@@ -134,7 +134,7 @@ inline std::optional<storage::Bbox> QueryBbox(const httplib::Request& req, const
     throw Error(ErrorCode::kInvalidArgument, name + " must be min_x,min_y,max_x,max_y in metres", name);
   }
   if (v[0] > v[2] || v[1] > v[3]) throw Error(ErrorCode::kUnprocessable, name + " minimum exceeds its maximum", name);
-  return storage::Bbox{v[0], v[1], v[2], v[3]};
+  return services::Bbox{v[0], v[1], v[2], v[3]};
 }
 
 // true | 1 | false | 0; false when absent.

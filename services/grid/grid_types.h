@@ -21,6 +21,9 @@
 
 namespace anchordb::services {
 
+// An axis-aligned box in the map frame [m] (min_x, min_y, max_x, max_y), as the store filters by it.
+using Bbox = storage::Bbox;
+
 // ---------------------------------------------------------------- maps
 
 struct CreateMapRequest {
@@ -97,6 +100,9 @@ struct CreateLayerRequest {
 // What each kind keeps besides its cells (storage/layer_codec.h); the alternative matches LayerInfo::kind.
 using LayerMeta = std::variant<storage::OccupancyLayerMeta, storage::ProbabilityLayerMeta, storage::FusedLayerMeta,
                                storage::LabelLayerMeta>;
+// The metadata document of a layer as the store keeps it (a JSON object, serialised), which the API shows key by key
+// beside the record's fields.
+std::string LayerMetaDocument(const LayerMeta& meta);
 // Occupancy layers count cells per class, label layers cells per label, the others summarise probabilities.
 using LayerStatistics =
     std::variant<engine::OccupancyStatistics, engine::ProbabilityStatistics, engine::LabelStatistics>;

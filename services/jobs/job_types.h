@@ -9,6 +9,10 @@
 
 namespace anchordb::services {
 
+// What a forgetting job is asked (the policy is the store's: storage/forget_policy.h).
+using ForgetPolicy = storage::ForgetPolicy;
+using ForgetRequest = storage::ForgetRequest;
+
 enum class JobStatus { kQueued, kRunning, kSucceeded, kFailed };
 // "queued", "running", "succeeded", "failed" (as stored and served).
 const char* JobStatusId(JobStatus status);
