@@ -12,6 +12,8 @@
 // Decoding checks all of it and throws Error(kInternal) naming what is wrong, so corrupt rows are reported,
 // never silently misread.
 #include <cstdint>
+#include <cstring>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -40,6 +42,20 @@ struct DecodedBlob {
 std::string EncodeBlob(BlobElement element, const std::vector<std::uint32_t>& shape, std::string_view payload,
                        int level = 3, BlobFilter filter = BlobFilter::kNone);
 DecodedBlob DecodeBlob(std::string_view blob);
+
+// The payload of `blob` as values of T, when it holds `element`s (of T's size) and, unless `count` is 0, exactly
+// `count` of them; nullopt otherwise (the caller says what did not match).
+template <typename T>
+std::optional<std::vector<T>> DecodeArray(std::string_view blob, BlobElement element, std::size_t count = 0) {
+  const DecodedBlob d = DecodeBlob(blob);
+  if (d.element != element || ElementSize(element) != sizeof(T) || d.bytes.size() % sizeof(T) != 0 ||
+      (count != 0 && d.bytes.size() != count * sizeof(T))) {
+    return std::nullopt;
+  }
+  std::vector<T> out(d.bytes.size() / sizeof(T));
+  std::memcpy(out.data(), d.bytes.data(), d.bytes.size());
+  return out;
+}
 
 template <typename T>
 std::string_view AsBytes(const std::vector<T>& v) {

@@ -1,6 +1,9 @@
 // Reading, re-checking and writing what a keyframe analysis computes (see event_analysis_internal.h).
 #include "services/events/event_analysis_internal.h"
 
+#include <algorithm>
+#include <iterator>
+
 #include "schema/error.h"
 #include "services/events/event_records_internal.h"
 #include "storage/scene_repository.h"

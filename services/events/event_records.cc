@@ -17,14 +17,10 @@ using json::Json;
 namespace {
 
 template <typename T>
-std::vector<T> DecodeArray(const std::string& blob, std::size_t count) {
-  const auto d = storage::DecodeBlob(blob);
-  if (d.bytes.size() % sizeof(T) != 0 || (count && d.bytes.size() != count * sizeof(T))) {
-    throw Error(ErrorCode::kInternal, "stored array does not match the camera");
-  }
-  std::vector<T> out(d.bytes.size() / sizeof(T));
-  std::memcpy(out.data(), d.bytes.data(), d.bytes.size());
-  return out;
+std::vector<T> DecodeArray(const std::string& blob, storage::BlobElement element, std::size_t count) {
+  auto out = storage::DecodeArray<T>(blob, element, count);
+  if (!out) throw Error(ErrorCode::kInternal, "stored array does not match the camera");
+  return std::move(*out);
 }
 
 }  // namespace
@@ -48,8 +44,8 @@ std::vector<Eigen::Vector3f> DecodePoints(const std::string& blob) {
   return out;
 }
 
-std::vector<std::uint16_t> DecodeDepthMm(const std::string& blob, std::size_t count) { return DecodeArray<std::uint16_t>(blob, count); }
-std::vector<float> DecodeF32(const std::string& blob) { return DecodeArray<float>(blob, 0); }
+std::vector<std::uint16_t> DecodeDepthMm(const std::string& blob, std::size_t count) { return DecodeArray<std::uint16_t>(blob, storage::BlobElement::kU16, count); }
+std::vector<float> DecodeF32(const std::string& blob) { return DecodeArray<float>(blob, storage::BlobElement::kF32, 0); }
 
 PinholeIntrinsics IntrinsicsOf(const std::string& intrinsics_json) {
   const Json j = Json::parse(intrinsics_json);

@@ -31,13 +31,9 @@ inline std::string EncodeF32(const std::vector<float>& v, int w, int h) {
 
 template <typename T>
 std::vector<T> DecodeAs(const std::string& blob, BlobElement element, std::size_t count) {
-  const auto d = storage::DecodeBlob(blob);
-  if (d.element != element || d.bytes.size() != count * sizeof(T)) {
-    throw Error(ErrorCode::kInternal, "stored scene state does not match the model's camera");
-  }
-  std::vector<T> out(count);
-  std::memcpy(out.data(), d.bytes.data(), d.bytes.size());
-  return out;
+  auto out = storage::DecodeArray<T>(blob, element, count);
+  if (!out) throw Error(ErrorCode::kInternal, "stored scene state does not match the model's camera");
+  return std::move(*out);
 }
 
 inline std::vector<std::uint16_t> ToMillimetres(const std::vector<float>& metres) {

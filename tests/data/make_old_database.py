@@ -28,7 +28,6 @@ import struct
 import sys
 import time
 import urllib.parse
-import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -101,48 +100,6 @@ def render_depth(view, boxes):
     return bytes(out)
 
 
-def png_pixels(data):
-    """(width, height, bit depth, unfiltered pixel bytes) of a non-interlaced greyscale PNG (8 or 16 bit)."""
-    if data[:8] != b"\x89PNG\r\n\x1a\n":
-        raise ValueError("not a PNG")
-    pos, idat, ihdr = 8, b"", None
-    while pos < len(data):
-        (length,) = struct.unpack(">I", data[pos:pos + 4])
-        kind, body = data[pos + 4:pos + 8], data[pos + 8:pos + 8 + length]
-        pos += 12 + length
-        if kind == b"IHDR":
-            ihdr = struct.unpack(">IIBBBBB", body)
-        elif kind == b"IDAT":
-            idat += body
-    width, height, depth, colour, _, _, interlace = ihdr
-    if colour != 0 or interlace != 0 or depth not in (8, 16):
-        raise ValueError("only 8/16-bit grey non-interlaced PNGs are read here")
-    bpp = depth // 8
-    stride = width * bpp
-    raw = zlib.decompress(idat)
-    out, prev = bytearray(), bytearray(stride)
-    for r in range(height):
-        ftype = raw[r * (stride + 1)]
-        line = bytearray(raw[r * (stride + 1) + 1:(r + 1) * (stride + 1)])
-        for i in range(stride):
-            a = line[i - bpp] if i >= bpp else 0
-            b = prev[i]
-            c = prev[i - bpp] if i >= bpp else 0
-            if ftype == 1:
-                line[i] = (line[i] + a) & 255
-            elif ftype == 2:
-                line[i] = (line[i] + b) & 255
-            elif ftype == 3:
-                line[i] = (line[i] + (a + b) // 2) & 255
-            elif ftype == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else (b if pb <= pc else c))) & 255
-        out += line
-        prev = line
-    return width, height, depth, bytes(out)
-
-
 def rect(x0, y0, x1, y1):
     return [[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
 
@@ -176,7 +133,7 @@ def read_entry(client, entry):
     body = r.body
     out = {}
     if entry["as"] == "png":
-        w, h, depth, body = png_pixels(body)
+        w, h, depth, body = harness.decode_png_grey_any(body)
         out.update(width=w, height=h, bit_depth=depth)
     for header in ("x-grid-width", "x-grid-height", "x-layer-version", "x-element"):
         if header in r.headers:

@@ -339,6 +339,15 @@ def encode_png_grey(width, height, pixels):
 
 def decode_png_grey(data):
     """(width, height, pixel bytes) of an 8-bit greyscale, non-interlaced PNG (any filter types)."""
+    width, height, depth, pixels = decode_png_grey_any(data)
+    if depth != 8:
+        raise ValueError("only 8-bit grey non-interlaced PNGs are decoded here (got depth %d colour 0)" % depth)
+    return width, height, pixels
+
+
+def decode_png_grey_any(data):
+    """(width, height, bit depth, unfiltered pixel bytes, big-endian for 16 bit) of a non-interlaced greyscale PNG
+    of 8 or 16 bits (any filter types)."""
     import struct
     import zlib
     if data[:8] != b"\x89PNG\r\n\x1a\n":
@@ -356,20 +365,21 @@ def decode_png_grey(data):
         elif kind == b"IEND":
             break
     width, height, depth, colour, _, _, interlace = ihdr
-    if depth != 8 or colour != 0 or interlace != 0:
-        raise ValueError("only 8-bit grey non-interlaced PNGs are decoded here (got depth %d colour %d)" % (
+    if depth not in (8, 16) or colour != 0 or interlace != 0:
+        raise ValueError("only 8/16-bit grey non-interlaced PNGs are decoded here (got depth %d colour %d)" % (
             depth, colour))
+    bpp = depth // 8
+    stride = width * bpp
     raw = zlib.decompress(idat)
     out = bytearray()
-    prev = bytearray(width)
-    stride = width + 1
+    prev = bytearray(stride)
     for r in range(height):
-        ftype = raw[r * stride]
-        line = bytearray(raw[r * stride + 1:(r + 1) * stride])
-        for i in range(width):
-            a = line[i - 1] if i else 0
+        ftype = raw[r * (stride + 1)]
+        line = bytearray(raw[r * (stride + 1) + 1:(r + 1) * (stride + 1)])
+        for i in range(stride):
+            a = line[i - bpp] if i >= bpp else 0
             b = prev[i]
-            c = prev[i - 1] if i else 0
+            c = prev[i - bpp] if i >= bpp else 0
             if ftype == 1:
                 line[i] = (line[i] + a) & 255
             elif ftype == 2:
@@ -383,7 +393,7 @@ def decode_png_grey(data):
                 line[i] = (line[i] + pred) & 255
         out += line
         prev = line
-    return width, height, bytes(out)
+    return width, height, depth, bytes(out)
 
 
 FREE, OCCUPIED, UNKNOWN = 254, 0, 205
