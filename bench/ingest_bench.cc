@@ -1,6 +1,7 @@
-// Frame ingest over loopback HTTP (SPEC section 7: >= 60 frames/s per connection): opens a scene model on a
+// Frame ingest over loopback HTTP (SPEC section 7: >= 60 frames/s per connection, durable): opens a scene model on a
 // running server and posts rendered 640x480 frames over one keep-alive connection, as PNG and as raw bytes.
-//   anchordb_ingest_bench --port P [--frames N]      prints one JSON line per encoding
+//   anchordb_ingest_bench --port P [--frames N] [--journal on|off]
+// prints one JSON line per encoding; --journal only labels the lines (the server's scene_frame_journal decides).
 #include "engine/scene/depth_image.h"  // Eigen before httplib.h (see api/http_api.h)
 #include "sim/apartment.h"
 #include "sim/renderer.h"
@@ -16,12 +17,14 @@ using namespace anchordb;
 
 int main(int argc, char** argv) {
   int port = 0, frames = 120;
+  std::string journal = "on";
   for (int i = 1; i + 1 < argc; ++i) {
     if (std::strcmp(argv[i], "--port") == 0) port = std::atoi(argv[i + 1]);
     if (std::strcmp(argv[i], "--frames") == 0) frames = std::atoi(argv[i + 1]);
+    if (std::strcmp(argv[i], "--journal") == 0) journal = argv[i + 1];
   }
-  if (port <= 0 || frames <= 0) {
-    std::fprintf(stderr, "usage: anchordb_ingest_bench --port P [--frames N]\n");
+  if (port <= 0 || frames <= 0 || (journal != "on" && journal != "off")) {
+    std::fprintf(stderr, "usage: anchordb_ingest_bench --port P [--frames N] [--journal on|off]\n");
     return 2;
   }
   const sim::SettingScene s = sim::MakeSetting(sim::Setting::kTA, 1);
@@ -63,8 +66,9 @@ int main(int argc, char** argv) {
       }
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("{\"encoding\":\"%s\",\"frames\":%d,\"seconds\":%.3f,\"frames_per_s\":%.1f,\"mean_body_bytes\":%zu}\n",
-                encoding, frames, seconds, frames / seconds, bytes / frames);
+    std::printf("{\"encoding\":\"%s\",\"journal\":\"%s\",\"frames\":%d,\"seconds\":%.3f,\"frames_per_s\":%.1f,"
+                "\"ms_per_frame\":%.3f,\"mean_body_bytes\":%zu}\n",
+                encoding, journal.c_str(), frames, seconds, frames / seconds, 1000.0 * seconds / frames, bytes / frames);
   }
   return 0;
 }

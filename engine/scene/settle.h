@@ -16,39 +16,50 @@ struct SettleParams {
   int settle_tolerance_px = 60;    // steady: movable count within this of the previous frame's, resets at most this
 };
 
-// The settle state of one scene model (a fresh detector: nothing moved, no previous frame).
+// What a detector remembers between frames (a fresh one: nothing moved, no previous frame).
+struct SettleState {
+  std::int64_t movable_at_keyframe = 0;   // movable pixels when the last keyframe was stored
+  std::int64_t reset_since_keyframe = 0;  // background pixels reset farther since then
+  std::int64_t previous_movable = -1;     // movable pixels of the previous frame; -1: no frame yet
+  int stable_frames = 0;                  // steady frames in a row
+  bool operator==(const SettleState&) const = default;
+};
+
+// The settle state of one scene model.
 class SettleDetector {
  public:
+  SettleDetector() = default;
+  // A detector that continues from `state` (a journalled model's, see services/scene).
+  explicit SettleDetector(const SettleState& state) : s_(state) {}
+  const SettleState& state() const { return s_; }
+
   // Takes the counts of one applied frame; true when a movement completed with this frame (the caller stores a
   // 'settled' keyframe and calls OnKeyframe). Always false when detection is off.
   bool OnFrame(const FrameCounts& counts, const SettleParams& params) {
     const auto movable = static_cast<std::int64_t>(counts.movable);
     bool settled = false;
     if (params.settle_frames > 0) {
-      reset_since_keyframe_ += static_cast<std::int64_t>(counts.reset);
-      const bool changed = std::abs(movable - movable_at_keyframe_) >= params.settle_min_change_px ||
-                           reset_since_keyframe_ >= params.settle_min_change_px;
-      const bool steady = previous_movable_ >= 0 && std::abs(movable - previous_movable_) <= params.settle_tolerance_px &&
+      s_.reset_since_keyframe += static_cast<std::int64_t>(counts.reset);
+      const bool changed = std::abs(movable - s_.movable_at_keyframe) >= params.settle_min_change_px ||
+                           s_.reset_since_keyframe >= params.settle_min_change_px;
+      const bool steady = s_.previous_movable >= 0 && std::abs(movable - s_.previous_movable) <= params.settle_tolerance_px &&
                           counts.dynamic == 0 && counts.reset <= static_cast<std::size_t>(params.settle_tolerance_px);
-      stable_frames_ = steady ? stable_frames_ + 1 : 0;
-      settled = changed && stable_frames_ >= params.settle_frames;
+      s_.stable_frames = steady ? s_.stable_frames + 1 : 0;
+      settled = changed && s_.stable_frames >= params.settle_frames;
     }
-    previous_movable_ = movable;
+    s_.previous_movable = movable;
     return settled;
   }
 
   // A keyframe was stored while the movable layer had `movable_px` pixels: the next movement is measured from it.
   void OnKeyframe(std::size_t movable_px) {
-    movable_at_keyframe_ = static_cast<std::int64_t>(movable_px);
-    reset_since_keyframe_ = 0;
-    stable_frames_ = 0;
+    s_.movable_at_keyframe = static_cast<std::int64_t>(movable_px);
+    s_.reset_since_keyframe = 0;
+    s_.stable_frames = 0;
   }
 
  private:
-  std::int64_t movable_at_keyframe_ = 0;
-  std::int64_t reset_since_keyframe_ = 0;
-  std::int64_t previous_movable_ = -1;  // -1: no frame yet
-  int stable_frames_ = 0;
+  SettleState s_;
 };
 
 }  // namespace anchordb::engine

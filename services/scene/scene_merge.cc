@@ -102,8 +102,9 @@ SceneService::PriorSnapshot SceneService::ReadPriors(const Model& m) {
   });
 }
 
-void SceneService::MergeFirstFrame(Model& m, const std::vector<std::uint16_t>& depth, double scale,
-                                   const std::vector<std::uint8_t>& dynamic) {
+FrameResult SceneService::AddMergingFrame(Model& m, const std::vector<std::uint16_t>& depth, double scale,
+                                          const std::vector<std::uint8_t>& dynamic, std::int64_t stamp_ns,
+                                          const std::optional<storage::JournalFrame>& journal) {
   const Pose3 pose = StoredPose(m.record.pose_json);
   const Eigen::Isometry3d X_MC = engine::ToIsometry(pose);
   engine::MergeParams params;
@@ -111,7 +112,8 @@ void SceneService::MergeFirstFrame(Model& m, const std::vector<std::uint16_t>& d
   params.frustum_far_m = merge_.frustum_far_m;
   params.strategy = m.merge.strategy;
   // Read, merge without holding the write lock, then commit if the earlier models are still as read; the merge is
-  // redone once from a fresh read if they changed meanwhile.
+  // redone once from a fresh read if they changed meanwhile. The merged state is checkpointed with the frame (its
+  // journal row, its begin keyframe) in one transaction, so a replay never merges again.
   for (int attempt = 0; attempt < 2; ++attempt) {
     const PriorSnapshot snapshot = ReadPriors(m);
     engine::SceneModelState state = m.state;  // fresh: the merge builds the first state
@@ -134,27 +136,25 @@ void SceneService::MergeFirstFrame(Model& m, const std::vector<std::uint16_t>& d
     for (std::size_t k = 0; k < snapshot.priors.size(); ++k) {
       if (engine::Supersedes(pose, snapshot.poses[k], merge_)) report.superseded.push_back(snapshot.priors[k].id);
     }
-    storage::SceneRecord written = m.record;
-    written.merge_report_json = docs::MergeReportDocument(report).dump();
-    written = StateRecord(written, m.K, state);  // the merge is persisted with the model at once
-    const bool committed = store_.Write([&](storage::Connection& c) {
+    storage::SceneRecord merged = m.record;
+    merged.merge_report_json = docs::MergeReportDocument(report).dump();
+    engine::FrameCounts counts;  // the merged model's labels
+    for (std::size_t i = 0; i < state.movable.size(); ++i) {
+      counts.movable += state.movable[i];
+      counts.dynamic += state.dynamic[i];
+    }
+    FrameStep step = Step(m, state, counts, depth, scale, stamp_ns, journal, &merged);
+    const bool committed = WriteFrame(m, step, [&](storage::Connection& c) {
       for (const auto& [id, stamp] : snapshot.stamps) {
         if (!(StampOf(storage::FindScene(c, m.record.map_id, id, false)) == stamp)) return false;
       }
       for (std::int64_t old : report.superseded) storage::UpdateSceneStatus(c, old, "superseded", std::nullopt, m.record.id);
-      storage::UpdateSceneState(c, written, m.record.state_version);
       return true;
     });
     if (!committed) continue;
     m.state = std::move(state);
     m.SetMergeReport(std::move(report));
-    m.Persisted(written);
-    m.last_counts = engine::FrameCounts{};
-    for (std::size_t i = 0; i < m.state.movable.size(); ++i) {
-      m.last_counts.movable += m.state.movable[i];
-      m.last_counts.dynamic += m.state.dynamic[i];
-    }
-    return;
+    return FrameCommitted(m, step);
   }
   throw Error(ErrorCode::kConflict, "the earlier scene models merged into scene " + std::to_string(m.record.id) +
                                         " changed during the merge twice; send the frame again", "scene");

@@ -51,6 +51,7 @@ void RequireCleanable(SceneLayerKind layer, bool clean) {
 
 SceneInfo SceneService::Describe(const Model& m) const {
   SceneInfo info = InfoFromRecord(m.record);
+  info.persisted_frames = m.DurableFrames();
   SceneInfo::State state;
   state.frames = m.state.frames;
   for (std::size_t i = 0; i < m.state.movable.size(); ++i) {
@@ -63,8 +64,7 @@ SceneInfo SceneService::Describe(const Model& m) const {
 }
 
 SceneInfo SceneService::Get(const std::string& map, std::int64_t id) {
-  auto model = Acquire(map, id);
-  std::lock_guard<std::mutex> lock(model->mutex);
+  auto [model, lock] = Lock(map, id);
   SceneInfo info = Describe(*model);
   for (const auto& k : store_.Read([&](storage::Connection& c) { return storage::ListKeyframes(c, map, id); })) {
     info.keyframes.push_back({k.id, StoredValue(kKeyframeKindNames, k.kind, "keyframe kind"), k.stamp_ns});
@@ -74,8 +74,7 @@ SceneInfo SceneService::Get(const std::string& map, std::int64_t id) {
 
 ExportedLayer SceneService::Layer(const std::string& map, std::int64_t id, SceneLayerKind layer,
                                   SceneLayerEncoding encoding, bool clean) {
-  auto model = Acquire(map, id);
-  std::lock_guard<std::mutex> lock(model->mutex);
+  auto [model, lock] = Lock(map, id);
   RequireCleanable(layer, clean);
   const engine::SceneModelState& s = model->state;
   const int w = model->K.width, h = model->K.height;
@@ -112,8 +111,7 @@ ExportedLayer SceneService::Layer(const std::string& map, std::int64_t id, Scene
 }
 
 SceneLayerSummary SceneService::LayerSummary(const std::string& map, std::int64_t id, SceneLayerKind layer, bool clean) {
-  auto model = Acquire(map, id);
-  std::lock_guard<std::mutex> lock(model->mutex);
+  auto [model, lock] = Lock(map, id);
   RequireCleanable(layer, clean);
   const engine::SceneModelState& s = model->state;
   SceneLayerSummary out;
@@ -148,7 +146,14 @@ std::vector<SceneInfo> SceneService::List(const std::string& map, const SceneLis
   return store_.Read([&](storage::Connection& c) {
     RequireMap(c, map);
     std::vector<SceneInfo> out;
-    for (const auto& r : storage::ListScenes(c, map, f)) out.push_back(InfoFromRecord(r));
+    for (const auto& r : storage::ListScenes(c, map, f)) {
+      out.push_back(InfoFromRecord(r));
+      if (r.status != "observing") continue;
+      if (const auto tail = storage::LastJournalFrame(c, r.id)) {  // acknowledged frames since the checkpoint
+        out.back().persisted_frames = std::max(r.frames, tail->frame);
+        out.back().last_frame_ns = std::max(r.last_frame_ns.value_or(tail->stamp_ns), tail->stamp_ns);
+      }
+    }
     return out;
   });
 }

@@ -122,9 +122,25 @@ std::shared_ptr<SceneService::Model> SceneService::Acquire(const std::string& ma
   return it->second;  // another thread may have loaded it first: use that one
 }
 
+SceneService::LockedModel SceneService::Lock(const std::string& map, std::int64_t id) {
+  for (;;) {
+    auto model = Acquire(map, id);
+    std::unique_lock<std::mutex> lock(model->mutex);
+    if (!model->evicted) return {std::move(model), std::move(lock)};
+  }
+}
+
+void SceneService::Evict(Model& m) {
+  m.evicted = true;
+  std::lock_guard<std::mutex> lock(models_mutex_);
+  auto it = models_.find(m.record.id);
+  if (it != models_.end() && it->second.get() == &m) models_.erase(it);
+}
+
 std::shared_ptr<SceneService::Model> SceneService::Load(const std::string& map, std::int64_t id) {
   auto model = std::make_shared<Model>();
-  auto record = store_.Read([&](storage::Connection& c) {
+  std::vector<storage::JournalFrame> journal;
+  auto record = store_.Read([&](storage::Connection& c) {  // one snapshot: checkpoint, keyframes and journal agree
     RequireMap(c, map);
     auto found = storage::FindScene(c, map, id, true);
     if (found) {
@@ -132,6 +148,7 @@ std::shared_ptr<SceneService::Model> SceneService::Load(const std::string& map, 
         model->has_begin_keyframe = model->has_begin_keyframe || k.kind == "begin";
         model->next_action_layer = std::max(model->next_action_layer, k.action_layer + 1);
       }
+      journal = storage::ReadJournal(c, id, found->frames);
     }
     return found;
   });
@@ -153,39 +170,46 @@ std::shared_ptr<SceneService::Model> SceneService::Load(const std::string& map, 
   record->weight.clear();
   record->labels.clear();
   model->record = std::move(*record);
+  Replay(*model, journal);
   return model;
 }
 
 void SceneService::Persist(Model& m) {
   const storage::SceneRecord r = StateRecord(m.record, m.K, m.state);  // encoded before the write
-  store_.Write([&](storage::Connection& c) { storage::UpdateSceneState(c, r, m.record.state_version); });
+  store_.Write([&](storage::Connection& c) { WriteCheckpoint(c, r, m.record.state_version); });
   m.Persisted(r);
 }
 
-StoredKeyframe SceneService::StoreKeyframe(Model& m, KeyframeKind kind, std::int64_t stamp_ns) {
+StoredKeyframe SceneService::StoreKeyframe(Model& m, KeyframeKind kind, std::int64_t stamp_ns,
+                                           const std::function<void(storage::Connection&)>& also,
+                                           const std::function<void()>& committed) {
   if (m.last_depth_mm.empty()) {
     throw Error(ErrorCode::kConflict, "scene " + std::to_string(m.record.id) + " has received no frame since it was (re)loaded");
   }
   const std::vector<std::uint16_t> background_mm = ToMillimetres(m.state.background_m);
-  storage::KeyframeRecord k;
-  k.map_id = m.record.map_id;
-  k.scene_id = m.record.id;
-  k.kind = NameOf(kKeyframeKindNames, kind);
-  k.stamp_ns = stamp_ns;
-  k.width = m.K.width;
-  k.height = m.K.height;
-  k.action_layer = m.next_action_layer;
-  const std::vector<std::uint32_t> shape = {static_cast<std::uint32_t>(m.K.height), static_cast<std::uint32_t>(m.K.width)};
-  k.depth = storage::EncodeBlob(BlobElement::kU16, shape, storage::AsBytes(m.last_depth_mm), 3, storage::BlobFilter::kDeltaShuffle16);
-  k.background = storage::EncodeBlob(BlobElement::kU16, shape, storage::AsBytes(background_mm), 3, storage::BlobFilter::kDeltaShuffle16);
-  k.raw_bytes = static_cast<std::int64_t>(2 * 2 * m.last_depth_mm.size());
-  k.stored_bytes = static_cast<std::int64_t>(k.depth.size() + k.background.size());
+  const storage::KeyframeRecord k = KeyframeRecordOf(m.record, m.K, m.next_action_layer, kind, stamp_ns, m.last_depth_mm, background_mm);
+  engine::SettleDetector settle = m.settle;
+  settle.OnKeyframe(m.last_counts.movable);
+  const std::string after = ModelAfterJson(m.last_counts, settle);
+  const std::int64_t id = store_.Write([&](storage::Connection& c) {
+    const std::int64_t inserted = storage::InsertKeyframe(c, k);
+    // The detector after this keyframe survives a crash with the latest frame's row (none when it is not journalled).
+    storage::UpdateJournalModelAfter(c, m.record.id, m.state.frames, after);
+    if (also) also(c);
+    return inserted;
+  });
+  m.settle = settle;
+  if (committed) committed();
+  return KeyframeStored(m, id, kind, stamp_ns, background_mm);
+}
+
+StoredKeyframe SceneService::KeyframeStored(Model& m, std::int64_t keyframe_id, KeyframeKind kind, std::int64_t stamp_ns,
+                                            const std::vector<std::uint16_t>& background_mm) {
   StoredKeyframe out;
-  out.id = store_.Write([&](storage::Connection& c) { return storage::InsertKeyframe(c, k); });
+  out.id = keyframe_id;
   out.kind = kind;
-  out.action_layer = k.action_layer;
+  out.action_layer = m.next_action_layer;
   ++m.next_action_layer;
-  m.settle.OnKeyframe(m.last_counts.movable);
   out.analysis = Analyse(m, out, stamp_ns, background_mm);
   return out;
 }
@@ -212,64 +236,61 @@ std::optional<KeyframeAnalysis> SceneService::Analyse(const Model& m, const Stor
 }
 
 FrameResult SceneService::AddFrame(const std::string& map, std::int64_t id, const FrameInput& in) {
-  auto model = Acquire(map, id);
-  std::lock_guard<std::mutex> lock(model->mutex);
+  auto [model, lock] = Lock(map, id);
   Model& m = *model;
   RequireObserving(m.record, "", "; open a new one");
-  auto [depth, dynamic] = DecodeFrame(in, m.K);
+  auto [depth, dynamic] = DecodeFrame(in, m.K);  // nothing is journalled or changed before the frame is valid
   const double scale = in.depth_scale ? CheckDepthScale(*in.depth_scale, "depth_scale") : m.params.depth_scale;
   const std::int64_t stamp = in.stamp_ns.value_or(clock_.NowNs());
-  if (m.merge.pending.value_or(false)) {
-    MergeFirstFrame(m, depth.pixels, scale, dynamic);
-  } else {
-    m.last_counts = engine::ApplyFrame(m.state, depth.pixels, scale, dynamic, m.params.model);
+  std::optional<storage::JournalFrame> journal;
+  if (limits_.frame_journal) journal = JournalRowOf(m.record.id, m.K, in, depth.pixels, scale, stamp);
+  if (m.merge.pending.value_or(false)) return AddMergingFrame(m, depth.pixels, scale, dynamic, stamp, journal);
+  try {
+    const engine::FrameCounts counts = engine::ApplyFrame(m.state, depth.pixels, scale, dynamic, m.params.model);
+    FrameStep step = Step(m, m.state, counts, depth.pixels, scale, stamp, std::move(journal), nullptr);
+    WriteFrame(m, step, {});
+    return FrameCommitted(m, step);
+  } catch (...) {
+    // The state holds a frame the database does not: with the journal, the next request reloads the model (its
+    // checkpoint plus its journal) instead of answering from it. Without, the model stays as it was before.
+    if (limits_.frame_journal) Evict(m);
+    throw;
   }
-  m.last_depth_mm.resize(depth.pixels.size());
-  for (std::size_t i = 0; i < depth.pixels.size(); ++i) {
-    m.last_depth_mm[i] = static_cast<std::uint16_t>(std::min(65535.0, std::round(depth.pixels[i] * 1000.0 / scale)));
-  }
-  m.record.last_frame_ns = stamp;
-  ++m.unpersisted_frames;
-  FrameResult out;
-  out.scene_id = id;
-  out.frames = m.state.frames;
-  const bool settled = m.settle.OnFrame(m.last_counts, limits_);  // a completed movement (3.3.4)
-  if (!m.has_begin_keyframe) {
-    out.keyframe = StoreKeyframe(m, KeyframeKind::kBegin, stamp);
-    m.has_begin_keyframe = true;
-  } else if (settled) {
-    out.keyframe = StoreKeyframe(m, KeyframeKind::kSettled, stamp);
-  }
-  if (m.unpersisted_frames >= limits_.persist_every_frames) Persist(m);
-  out.persisted_frames = m.record.frames;
-  out.pixels = m.last_counts;
-  return out;
 }
 
 KeyframeResult SceneService::Keyframe(const std::string& map, std::int64_t id) {
-  auto model = Acquire(map, id);
-  std::lock_guard<std::mutex> lock(model->mutex);
+  auto [model, lock] = Lock(map, id);
   RequireObserving(model->record);
   const std::int64_t stamp = model->record.last_frame_ns.value_or(clock_.NowNs());
   return {id, StoreKeyframe(*model, KeyframeKind::kManual, stamp)};
 }
 
 CloseResult SceneService::Close(const std::string& map, std::int64_t id) {
-  auto model = Acquire(map, id);
-  std::lock_guard<std::mutex> lock(model->mutex);
+  auto [model, lock] = Lock(map, id);
   Model& m = *model;
   RequireObserving(m.record, "already ");
   CloseResult out;
   out.scene_id = id;
   const std::int64_t end = m.record.last_frame_ns.value_or(clock_.NowNs());
-  if (!m.last_depth_mm.empty()) out.keyframe = StoreKeyframe(m, KeyframeKind::kEnd, end);
-  Persist(m);
-  store_.Write([&](storage::Connection& c) { storage::UpdateSceneStatus(c, id, "closed", end, std::nullopt); });
-  m.record.status = "closed";
-  m.record.ended_ns = end;
-  {
+  // The end keyframe, the final checkpoint (the journal goes with it) and the status in one transaction.
+  const storage::SceneRecord checkpoint = StateRecord(m.record, m.K, m.state);
+  const auto finish = [&](storage::Connection& c) {
+    storage::UpdateSceneState(c, checkpoint, m.record.state_version);
+    storage::DeleteJournal(c, id);
+    storage::UpdateSceneStatus(c, id, "closed", end, std::nullopt);
+  };
+  const auto closed = [&] {
+    m.Persisted(checkpoint);
+    m.record.status = "closed";
+    m.record.ended_ns = end;
     std::lock_guard<std::mutex> models_lock(models_mutex_);  // closed models are not kept in memory
     models_.erase(id);
+  };
+  if (!m.last_depth_mm.empty()) {
+    out.keyframe = StoreKeyframe(m, KeyframeKind::kEnd, end, finish, closed);  // analysed once closed
+  } else {
+    store_.Write(finish);
+    closed();
   }
   out.status = SceneStatus::kClosed;
   out.frames = m.state.frames;

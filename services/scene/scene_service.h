@@ -1,9 +1,14 @@
 #pragma once
 // Scene models anchored at camera poses (thesis 3.2-3.3) and their keyframes. Observing models live in memory (one
-// mutex each) and are persisted as versioned blobs every `persist_every_frames` frames, on close and at shutdown; a
-// model not in memory is loaded from the database on first use, so a restarted server continues an open model where
-// its last persisted state stopped. Errors are anchordb::Error: kNotFound (map, scene, keyframe), kConflict (the
+// mutex each) and are checkpointed as versioned blobs every `persist_every_frames` frames, on close and at shutdown.
+// With the frame journal on (the default), every frame is committed to the journal (storage/frame_journal.h) in one
+// write transaction with its keyframe and checkpoint, if any, before it is answered, so every acknowledged frame is
+// durable. A model not in memory is loaded on first use (after a restart: before its next frame is accepted) from its
+// last checkpoint plus its journal, replayed without side effects (no keyframe or event is made twice; the settle
+// detector continues from its journalled state), so a restarted server continues an open model exactly where the last
+// acknowledged frame left it: the same layers, keyframes and detector state as an uninterrupted run. Errors are anchordb::Error: kNotFound (map, scene, keyframe), kConflict (the
 // model is not observing, or changed concurrently), kInvalidArgument / kUnprocessable (bad input, see the types).
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -17,13 +22,21 @@
 #include "services/common/exported_bytes.h"
 #include "services/scene/keyframe_listener.h"
 #include "services/scene/scene_types.h"
+#include "storage/frame_journal.h"
 #include "storage/store.h"
+
+namespace anchordb::storage {
+struct SceneRecord;
+}  // namespace anchordb::storage
 
 namespace anchordb::services {
 
 struct SceneLimits : engine::SettleParams {  // settle_frames, settle_min_change_px, settle_tolerance_px (0 = off)
   int max_image_side = 4096;       // width and height of a model's camera
-  int persist_every_frames = 30;   // frames between state checkpoints (1 = every frame is durable when answered)
+  int persist_every_frames = 30;   // frames between state checkpoints (bounds the journal replayed at a load)
+  // Journal every frame before answering it (SPEC §8). Off: only checkpoints are durable (frames since the last one
+  // are lost by a crash); the bench measures ingest both ways.
+  bool frame_journal = true;
 };
 
 // Which earlier models a new one merges (3.3.3: max_candidates, max_age_s, candidate_radius_m, min_overlap,
@@ -68,18 +81,40 @@ class SceneService {
  private:
   struct Model;
   struct PriorSnapshot;
+  struct FrameStep;
+  using LockedModel = std::pair<std::shared_ptr<Model>, std::unique_lock<std::mutex>>;
   std::shared_ptr<Model> Acquire(const std::string& map, std::int64_t id);
+  // The model, locked and current: a copy evicted after a failed frame write is reloaded from the database.
+  LockedModel Lock(const std::string& map, std::int64_t id);
+  void Evict(Model& model);
   std::shared_ptr<Model> Load(const std::string& map, std::int64_t id);
   void Persist(Model& model);
-  StoredKeyframe StoreKeyframe(Model& model, KeyframeKind kind, std::int64_t stamp_ns);
+  // Stores a keyframe of the latest frame; `also` runs in the same write transaction, `committed` after it, before the
+  // keyframe is analysed.
+  StoredKeyframe StoreKeyframe(Model& model, KeyframeKind kind, std::int64_t stamp_ns,
+                               const std::function<void(storage::Connection&)>& also = {},
+                               const std::function<void()>& committed = {});
+  StoredKeyframe KeyframeStored(Model& model, std::int64_t keyframe_id, KeyframeKind kind, std::int64_t stamp_ns,
+                                const std::vector<std::uint16_t>& background_mm);
   std::optional<KeyframeAnalysis> Analyse(const Model& model, const StoredKeyframe& keyframe, std::int64_t stamp_ns,
                                           const std::vector<std::uint16_t>& background_mm);
   SceneInfo Describe(const Model& model) const;
   std::vector<engine::MergeCandidate> SelectCandidates(const std::string& map, const OpenSceneRequest& request,
                                                        std::int64_t stamp_ns);
   PriorSnapshot ReadPriors(const Model& model);
-  void MergeFirstFrame(Model& model, const std::vector<std::uint16_t>& depth, double scale,
-                       const std::vector<std::uint8_t>& dynamic);
+  // A frame's effects, computed before anything is written (scene_journal.cc), its one write, and the model's
+  // bookkeeping once that committed.
+  FrameStep Step(const Model& model, const engine::SceneModelState& state, const engine::FrameCounts& counts,
+                 const std::vector<std::uint16_t>& depth, double scale, std::int64_t stamp_ns,
+                 std::optional<storage::JournalFrame> journal, const storage::SceneRecord* merged) const;
+  bool WriteFrame(const Model& model, FrameStep& step, const std::function<bool(storage::Connection&)>& precondition);
+  FrameResult FrameCommitted(Model& model, FrameStep& step);
+  // The first frame of a model that merges earlier ones (scene_merge.cc).
+  FrameResult AddMergingFrame(Model& model, const std::vector<std::uint16_t>& depth, double scale,
+                              const std::vector<std::uint8_t>& dynamic, std::int64_t stamp_ns,
+                              const std::optional<storage::JournalFrame>& journal);
+  // Rebuilds a loaded model's state from its journal rows (scene_journal.cc).
+  void Replay(Model& model, const std::vector<storage::JournalFrame>& rows) const;
 
   storage::Store& store_;
   SceneLimits limits_;

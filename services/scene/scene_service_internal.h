@@ -10,6 +10,7 @@
 #include "services/scene/scene_documents_internal.h"
 #include "services/scene/scene_service.h"
 #include "storage/blob_codec.h"
+#include "storage/frame_journal.h"
 #include "storage/scene_repository.h"
 #include "services/common/require.h"
 
@@ -34,6 +35,15 @@ std::vector<T> DecodeAs(const std::string& blob, BlobElement element, std::size_
   auto out = storage::DecodeArray<T>(blob, element, count);
   if (!out) throw Error(ErrorCode::kInternal, "stored scene state does not match the model's camera");
   return std::move(*out);
+}
+
+// A frame's depth in `scale` sensor units per metre as millimetres (what keyframes store).
+inline std::vector<std::uint16_t> DepthMillimetres(const std::vector<std::uint16_t>& depth, double scale) {
+  std::vector<std::uint16_t> mm(depth.size());
+  for (std::size_t i = 0; i < depth.size(); ++i) {
+    mm[i] = static_cast<std::uint16_t>(std::min(65535.0, std::round(depth[i] * 1000.0 / scale)));
+  }
+  return mm;
 }
 
 inline std::vector<std::uint16_t> ToMillimetres(const std::vector<float>& metres) {
@@ -64,6 +74,12 @@ inline storage::SceneRecord StateRecord(const storage::SceneRecord& base, const 
   return r;
 }
 
+// A checkpoint (`r`, a StateRecord) and the trim of the journal rows it covers, in the caller's transaction.
+inline void WriteCheckpoint(storage::Connection& c, const storage::SceneRecord& r, std::int64_t expected_state_version) {
+  storage::UpdateSceneState(c, r, expected_state_version);
+  storage::TrimJournal(c, r.id, r.frames);
+}
+
 }  // namespace scene_detail
 
 struct SceneService::Model {
@@ -73,7 +89,9 @@ struct SceneService::Model {
   SceneParams params;
   MergeReport merge;
   engine::SceneModelState state;
-  int unpersisted_frames = 0;
+  int unpersisted_frames = 0;                // frames since the last checkpoint
+  std::int64_t journalled_frames = 0;        // frames up to which the journal holds every frame (0: none)
+  bool evicted = false;                      // a failed frame write left this copy ahead of the database
   std::vector<std::uint16_t> last_depth_mm;  // the latest frame, for keyframes
   bool has_begin_keyframe = false;
   engine::FrameCounts last_counts;
@@ -90,6 +108,37 @@ struct SceneService::Model {
     record.frames = written.frames;
     unpersisted_frames = 0;
   }
+  // Frames a crash would not lose.
+  std::int64_t DurableFrames() const { return std::max(record.frames, journalled_frames); }
 };
+
+// What one frame changes, computed before anything is written (SceneService::Step).
+struct SceneService::FrameStep {
+  std::int64_t stamp_ns = 0;
+  engine::FrameCounts counts;
+  engine::SettleDetector settle;            // after the frame and its keyframe
+  std::vector<std::uint16_t> depth_mm;      // the frame in millimetres: the model's next last_depth_mm
+  std::optional<KeyframeKind> keyframe;     // the begin or a settled keyframe this frame stores
+  storage::KeyframeRecord keyframe_record;  // when `keyframe`
+  std::int64_t keyframe_id = 0;             // set by WriteFrame
+  std::vector<std::uint16_t> background_mm; // when `keyframe`, for its analysis
+  std::optional<storage::SceneRecord> checkpoint;
+  std::optional<storage::JournalFrame> journal;
+};
+
+namespace scene_detail {  // scene_journal.cc
+
+// A keyframe of `scene` (camera K) showing `depth_mm` over `background_mm`, opening `action_layer`.
+storage::KeyframeRecord KeyframeRecordOf(const storage::SceneRecord& scene, const PinholeIntrinsics& K,
+                                         std::int64_t action_layer, KeyframeKind kind, std::int64_t stamp_ns,
+                                         const std::vector<std::uint16_t>& depth_mm,
+                                         const std::vector<std::uint16_t>& background_mm);
+// The journal row of a validated frame (without frame number and model_after: SceneService::Step sets them).
+storage::JournalFrame JournalRowOf(std::int64_t scene_id, const PinholeIntrinsics& K, const FrameInput& in,
+                                   const std::vector<std::uint16_t>& depth, double scale, std::int64_t stamp_ns);
+// A journal row's model_after: what a replay cannot recompute from the checkpoint and the frames after it.
+std::string ModelAfterJson(const engine::FrameCounts& counts, const engine::SettleDetector& settle);
+
+}  // namespace scene_detail
 
 }  // namespace anchordb::services

@@ -3,8 +3,11 @@
 namespace anchordb::services {
 
 void BindSceneSettings(SettingsBinder& b, SceneLimits& scene, MergeSettings& merge) {
-  b.Bind("scene_persist_every_frames", "frames between checkpoints of an observing scene model (1 = every frame durable)",
-         &scene.persist_every_frames, 1, 1e6);
+  b.Bind("scene_persist_every_frames", "frames between checkpoints of an observing scene model (the frame journal "
+         "replayed when a model is loaded after a restart holds at most this many frames)", &scene.persist_every_frames, 1, 1e6);
+  b.Bind("scene_frame_journal", "commit every frame to the frame journal before answering it, so that every "
+         "acknowledged frame survives a crash; false: only checkpoints are durable (kept for the ingest bench)",
+         &scene.frame_journal);
   b.Bind("scene_max_image_side", "largest camera width or height of a scene model [px]", &scene.max_image_side, 1, 16384);
   b.Bind("scene_settle_frames", "steady frames after a change of the movable layer that make a 'settled' keyframe "
          "(a completed movement, new action layer); 0 = off", &scene.settle_frames, 0, 1e6);

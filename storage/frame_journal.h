@@ -1,0 +1,53 @@
+#pragma once
+// The frame journal of scene models (migrations/0007_frame_journal.sql): every frame a model acknowledged since its
+// last checkpoint, so that a model can be rebuilt after a crash. The rows are written by the scene service inside
+// its frame transaction and trimmed by its checkpoints; deleting a scene model (or its map) deletes its rows by
+// foreign key. Errors: anchordb::Error from storage/sqlite.h (kConflict when a (scene, frame) row exists already).
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "storage/sqlite.h"
+
+namespace anchordb::storage {
+
+// How a journalled frame's depth is stored.
+enum class JournalDepthCodec {
+  kPng,      // the 16-bit PNG exactly as the client sent it
+  kRawZstd,  // a blob (storage/blob_codec.h) of the u16 {height, width} pixels the client sent raw
+};
+
+struct JournalFrame {
+  std::int64_t scene_id = 0;
+  std::int64_t frame = 0;  // the model's frame count with this frame applied (1 = its first frame)
+  std::int64_t stamp_ns = 0;
+  JournalDepthCodec depth_codec = JournalDepthCodec::kPng;
+  std::string depth;                       // bytes as described by depth_codec
+  double depth_scale = 1000.0;             // sensor units per metre the frame was applied with
+  std::optional<std::string> dynamic_png;  // the 8-bit mask PNG as received
+  std::string model_after_json;            // what the caller needs after replaying the frame (opaque here)
+};
+
+// Appends one frame (kConflict if the scene already has a row for that frame).
+void AppendJournalFrame(Connection& c, const JournalFrame& frame);
+// The scene's rows with frame >= from_frame, oldest first.
+std::vector<JournalFrame> ReadJournal(Connection& c, std::int64_t scene_id, std::int64_t from_frame);
+// Deletes the scene's rows with frame < before_frame (a checkpoint of `before_frame` frames keeps the row of its last
+// frame); returns how many went.
+std::int64_t TrimJournal(Connection& c, std::int64_t scene_id, std::int64_t before_frame);
+// Deletes all of the scene's rows; returns how many went.
+std::int64_t DeleteJournal(Connection& c, std::int64_t scene_id);
+// Replaces model_after of the row (scene_id, frame); false when there is no such row.
+bool UpdateJournalModelAfter(Connection& c, std::int64_t scene_id, std::int64_t frame, const std::string& model_after_json);
+
+// The newest row of a scene, without its images (nullopt: none).
+struct JournalTail {
+  std::int64_t frame = 0;
+  std::int64_t stamp_ns = 0;
+};
+std::optional<JournalTail> LastJournalFrame(Connection& c, std::int64_t scene_id);
+// Rows of one scene, or of every scene when scene_id is nullopt.
+std::int64_t CountJournalFrames(Connection& c, std::optional<std::int64_t> scene_id = std::nullopt);
+
+}  // namespace anchordb::storage

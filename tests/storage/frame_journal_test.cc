@@ -1,0 +1,127 @@
+// The frame journal repository on a real SQLite file: append, read back across a reopen, trim, the (scene, frame)
+// key, and the rows going with their scene model and their map (foreign keys).
+#include "storage/frame_journal.h"
+
+#include <gtest/gtest.h>
+
+#include "schema/error.h"
+#include "storage/repositories.h"
+#include "storage/scene_repository.h"
+#include "storage/store.h"
+#include "tests/support/temp_dir.h"
+
+namespace anchordb::storage {
+namespace {
+
+StoreOptions OptionsFor(const std::string& path) {
+  StoreOptions o;
+  o.path = path;
+  o.reader_connections = 1;
+  return o;
+}
+
+std::int64_t AddScene(Store& store, const std::string& map) {
+  return store.Write([&](Connection& c) {
+    if (!FindMap(c, map)) InsertMap(c, {map, map, 1});
+    SceneRecord r;
+    r.map_id = map;
+    r.intrinsics_json = r.pose_json = r.params_json = "{}";
+    return InsertScene(c, r);
+  });
+}
+
+JournalFrame Frame(std::int64_t scene, std::int64_t frame, bool png) {
+  JournalFrame f;
+  f.scene_id = scene;
+  f.frame = frame;
+  f.stamp_ns = 1000 + frame;
+  f.depth_codec = png ? JournalDepthCodec::kPng : JournalDepthCodec::kRawZstd;
+  f.depth = std::string("depth\0of frame ", 15) + std::to_string(frame);  // bytes, NULs included
+  f.depth_scale = png ? 1000.0 : 5000.0;
+  if (frame % 2 == 0) f.dynamic_png = "mask " + std::to_string(frame);
+  f.model_after_json = R"({"frame":)" + std::to_string(frame) + "}";
+  return f;
+}
+
+void ExpectSame(const JournalFrame& a, const JournalFrame& b) {
+  EXPECT_EQ(a.scene_id, b.scene_id);
+  EXPECT_EQ(a.frame, b.frame);
+  EXPECT_EQ(a.stamp_ns, b.stamp_ns);
+  EXPECT_EQ(a.depth_codec, b.depth_codec);
+  EXPECT_EQ(a.depth, b.depth);
+  EXPECT_EQ(a.depth_scale, b.depth_scale);
+  EXPECT_EQ(a.dynamic_png, b.dynamic_png);
+  EXPECT_EQ(a.model_after_json, b.model_after_json);
+}
+
+TEST(FrameJournalTest, AppendReadBackAcrossReopenTrimAndDelete) {
+  testing::TempDir dir;
+  const std::string path = dir.File("journal.sqlite");
+  std::int64_t scene = 0, other = 0;
+  {
+    Store store(OptionsFor(path));
+    scene = AddScene(store, "home");
+    other = AddScene(store, "home");
+    for (int k = 1; k <= 5; ++k) store.Write([&](Connection& c) { AppendJournalFrame(c, Frame(scene, k, k % 3 != 0)); });
+    store.Write([&](Connection& c) { AppendJournalFrame(c, Frame(other, 1, true)); });
+  }
+  Store store(OptionsFor(path));
+  auto read = [&](std::int64_t id, std::int64_t from) { return store.Read([&](Connection& c) { return ReadJournal(c, id, from); }); };
+  const auto all = read(scene, 0);
+  ASSERT_EQ(all.size(), 5u);
+  for (int k = 1; k <= 5; ++k) ExpectSame(all[k - 1], Frame(scene, k, k % 3 != 0));
+  EXPECT_EQ(read(scene, 4).size(), 2u);
+  EXPECT_EQ(read(scene, 4).front().frame, 4);
+  const auto tail = store.Read([&](Connection& c) { return LastJournalFrame(c, scene); });
+  ASSERT_TRUE(tail);
+  EXPECT_EQ(tail->frame, 5);
+  EXPECT_EQ(tail->stamp_ns, 1005);
+
+  // A frame is journalled once.
+  try {
+    store.Write([&](Connection& c) { AppendJournalFrame(c, Frame(scene, 3, true)); });
+    ADD_FAILURE() << "a second row for frame 3 was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kConflict) << e.what();
+  }
+  // The model_after of a row is replaced in place; a missing row says so.
+  EXPECT_TRUE(store.Write([&](Connection& c) { return UpdateJournalModelAfter(c, scene, 5, R"({"after":"keyframe"})"); }));
+  EXPECT_FALSE(store.Write([&](Connection& c) { return UpdateJournalModelAfter(c, scene, 9, "{}"); }));
+  EXPECT_EQ(read(scene, 5).front().model_after_json, R"({"after":"keyframe"})");
+
+  // A checkpoint of 4 frames keeps the row of its last frame and those after it; the other scene is untouched.
+  EXPECT_EQ(store.Write([&](Connection& c) { return TrimJournal(c, scene, 4); }), 3);
+  EXPECT_EQ(store.Read([&](Connection& c) { return CountJournalFrames(c, scene); }), 2);
+  EXPECT_EQ(store.Read([&](Connection& c) { return CountJournalFrames(c, other); }), 1);
+  EXPECT_EQ(store.Read([&](Connection& c) { return CountJournalFrames(c); }), 3);
+  EXPECT_EQ(store.Write([&](Connection& c) { return DeleteJournal(c, scene); }), 2);
+  EXPECT_FALSE(store.Read([&](Connection& c) { return LastJournalFrame(c, scene); }));
+  EXPECT_EQ(store.Read([&](Connection& c) { return CountJournalFrames(c); }), 1);
+}
+
+TEST(FrameJournalTest, RowsGoWithTheirSceneModelAndTheirMap) {
+  testing::TempDir dir;
+  Store store(OptionsFor(dir.File("journal.sqlite")));
+  const std::int64_t a = AddScene(store, "home");
+  const std::int64_t b = AddScene(store, "home");
+  const std::int64_t c_other = AddScene(store, "office");
+  for (std::int64_t id : {a, b, c_other}) {
+    store.Write([&](Connection& c) {
+      for (int k = 1; k <= 3; ++k) AppendJournalFrame(c, Frame(id, k, true));
+    });
+  }
+  // A scene model deleted (as forgetting deletes superseded ones) takes its rows with it.
+  store.Write([&](Connection& c) { Statement(c, "DELETE FROM scene_models WHERE id = ?").Bind(1, a).Run(); });
+  EXPECT_EQ(store.Read([&](Connection& c) { return CountJournalFrames(c, a); }), 0);
+  EXPECT_EQ(store.Read([&](Connection& c) { return CountJournalFrames(c); }), 6);
+  // A deleted map takes its models' rows.
+  EXPECT_TRUE(store.Write([&](Connection& c) { return DeleteMap(c, "home"); }));
+  EXPECT_EQ(store.Read([&](Connection& c) { return CountJournalFrames(c, b); }), 0);
+  EXPECT_EQ(store.Read([&](Connection& c) { return CountJournalFrames(c); }), 3);
+  // A row for a scene model that does not exist is refused.
+  EXPECT_THROW(store.Write([&](Connection& c) { AppendJournalFrame(c, Frame(999, 1, true)); }), Error);
+  EXPECT_EQ(store.Read([&](Connection& c) { return CountJournalFrames(c); }), 3);
+}
+
+}  // namespace
+}  // namespace anchordb::storage
