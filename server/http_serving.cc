@@ -133,7 +133,7 @@ struct HttpServing::Impl {
   std::vector<std::pair<Connection*, bool>> handbacks;  // (connection, close)
 
   struct {
-    std::atomic<std::int64_t> open{0}, accepted{0}, refused{0}, idle_timeout{0}, idle_capacity{0}, queued{0},
+    std::atomic<std::int64_t> open{0}, idle{0}, accepted{0}, refused{0}, idle_timeout{0}, idle_capacity{0}, queued{0},
         requests_refused{0}, served{0}, busy{0};
   } stats;
 };
@@ -149,12 +149,14 @@ void HttpServing::Impl::MakeIdle(Connection* c) {
   if (c->idle) return;
   c->idle = true;
   c->idle_position = idle.insert(idle.end(), c);
+  ++stats.idle;
 }
 
 void HttpServing::Impl::LeaveIdle(Connection* c) {
   if (!c->idle) return;
   idle.erase(c->idle_position);
   c->idle = false;
+  --stats.idle;
 }
 
 void HttpServing::Impl::Close(Connection* c) {
@@ -480,6 +482,7 @@ void HttpServing::Run() {
   m.closed.clear();
   m.connections.clear();
   m.stats.open = 0;
+  m.stats.idle = 0;
   m.lingering = 0;
   if (failure) std::rethrow_exception(failure);
 }
@@ -492,7 +495,7 @@ void HttpServing::Stop() {
 ServingCounters HttpServing::counters() const {
   const auto& stats = impl_->stats;
   ServingCounters c;
-  c.connections_open = stats.open, c.connections_accepted = stats.accepted, c.connections_refused = stats.refused;
+  c.connections_open = stats.open, c.connections_idle = stats.idle, c.connections_accepted = stats.accepted, c.connections_refused = stats.refused;
   c.idle_closed_timeout = stats.idle_timeout, c.idle_closed_capacity = stats.idle_capacity;
   c.requests_queued = stats.queued, c.requests_refused = stats.requests_refused, c.requests_served = stats.served;
   c.workers_busy = stats.busy;
@@ -507,6 +510,8 @@ std::string HttpServing::PrometheusText() const {
   };
   const auto one = [](const char* name, std::int64_t v) { return std::string(name) + " " + std::to_string(v) + "\n"; };
   add("anchordb_connections_open", "gauge", "Open client connections.", one("anchordb_connections_open", c.connections_open));
+  add("anchordb_connections_idle", "gauge", "Open keep-alive connections waiting for a request (they hold no worker).",
+      one("anchordb_connections_idle", c.connections_idle));
   add("anchordb_connections_accepted_total", "counter", "Client connections admitted.",
       one("anchordb_connections_accepted_total", c.connections_accepted));
   add("anchordb_connections_refused_total", "counter",

@@ -40,6 +40,7 @@ struct ServingLimits {
 // Counters since start (gauges marked): what GET /metrics shows.
 struct ServingCounters {
   std::int64_t connections_open = 0;       // gauge
+  std::int64_t connections_idle = 0;       // gauge: open keep-alives waiting for a request (holding no worker)
   std::int64_t connections_accepted = 0;   // admitted connections
   std::int64_t connections_refused = 0;    // answered 503 at accept (every connection busy)
   std::int64_t idle_closed_timeout = 0;    // idle keep-alives closed after idle_timeout_s
