@@ -49,9 +49,11 @@ bool Connection::ReadAvailable(std::size_t limit_bytes) {
       in_begin = 0;
       in_end = kept;
     }
-    const ssize_t n = ::recv(fd, in.get() + in_end, in_capacity - in_end, 0);
+    const std::size_t room = in_capacity - in_end;
+    const ssize_t n = ::recv(fd, in.get() + in_end, room, 0);
     if (n > 0) {
       in_end += static_cast<std::size_t>(n);
+      if (static_cast<std::size_t>(n) < room) return true;  // drained for now; epoll or poll says when more came
       continue;
     }
     if (n == 0) {

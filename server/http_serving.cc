@@ -129,8 +129,13 @@ struct HttpServing::Impl {
   bool workers_stop = false;
   std::vector<std::thread> workers;
 
+  struct Handback {
+    Connection* connection;
+    bool close;
+    Clock::time_point at;
+  };
   std::mutex handback_mutex;
-  std::vector<std::pair<Connection*, bool>> handbacks;  // (connection, close)
+  std::vector<Handback> handbacks;
 
   struct {
     std::atomic<std::int64_t> open{0}, idle{0}, accepted{0}, refused{0}, idle_timeout{0}, idle_capacity{0}, queued{0},
@@ -235,6 +240,7 @@ void HttpServing::Impl::Accept() {
 
 void HttpServing::Impl::OnReadable(Connection* c) {
   if (c->state == Connection::State::kClosed) return;  // closed earlier in this turn (evicted for a new one)
+  if (c->state == Connection::State::kQueued) TakeHandbacks();  // its worker handed it back and armed it already
   const bool open = c->ReadAvailable(kHeadBytes);
   if (c->state == Connection::State::kLingering) {
     c->Consume(c->buffered());  // drained and dropped
@@ -266,20 +272,20 @@ void HttpServing::Impl::Dispatch(Connection* c) {
 }
 
 void HttpServing::Impl::TakeHandbacks() {
-  std::vector<std::pair<Connection*, bool>> taken;
+  std::vector<Handback> taken;
   {
     std::lock_guard<std::mutex> lock(handback_mutex);
     taken.swap(handbacks);
   }
-  for (const auto& [c, close] : taken) {
-    if (close) {
-      Close(c);
+  for (const Handback& h : taken) {
+    if (h.close) {
+      Close(h.connection);
       continue;
     }
+    Connection* c = h.connection;  // its worker armed it already
     c->state = Connection::State::kReading;
-    c->since = Clock::now();
+    c->since = h.at;
     if (c->buffered() == 0) MakeIdle(c);
-    Arm(c);
   }
 }
 
@@ -374,11 +380,17 @@ void HttpServing::Impl::Serve(Connection* c) {
 }
 
 void HttpServing::Impl::HandBack(Connection* c, bool close) {
+  // A kept connection is watched again at once, by its worker: no wake-up of the reactor per request. The reactor
+  // takes the hand-back before the connection's next event (OnReadable) or at its next turn (<= 250 ms), which is
+  // all its idle bookkeeping needs. Arming under the lock: the reactor cannot take (and close) the connection before
+  // it is armed, and an event after arming finds the hand-back there. A closed connection wakes the reactor, so that
+  // its descriptor goes at once. The worker does not touch `c` after the unlock.
   {
     std::lock_guard<std::mutex> lock(handback_mutex);
-    handbacks.emplace_back(c, close);
+    if (!close) Arm(c);
+    handbacks.push_back({c, close, Clock::now()});
   }
-  Wake();
+  if (close) Wake();
 }
 
 HttpServing::HttpServing(ServingLimits limits) {
