@@ -76,7 +76,9 @@ void HttpApi::AddSystemRoutes() {
   });
   router_.Add("GET", "/metrics", Role::kReader, "Prometheus text: request counts and latency per route",
               [this](const auto&, const auto&) {
-                return Response{200, "text/plain; version=0.0.4", metrics_.Prometheus(), {}};
+                std::string text = metrics_.Prometheus();
+                if (options_.extra_metrics) text += options_.extra_metrics();
+                return Response{200, "text/plain; version=0.0.4", std::move(text), {}};
               });
   router_.Add("GET", "/v1/openapi.json", Role::kPublic, "This API's OpenAPI 3 description", [](const auto&, const auto&) {
     return Response{200, "application/json", OpenApiDocument(), {}};

@@ -26,9 +26,12 @@ struct HttpOptions {
   std::function<void(const std::string& line)> log;
   // The settings document served by GET /v1/settings.
   std::function<Json()> settings;
+  // More Prometheus text appended to GET /metrics (the server's connection and queue counters); may be empty.
+  std::function<std::string()> extra_metrics;
   std::size_t max_body_bytes = 64u << 20;
-  // Write requests (every method but GET) handled at once; one more is refused at once with 503 + Retry-After.
-  int max_pending_writes = 64;
+  // Write requests (routes of the writer or admin role) in service at once; one more is refused at once with 503 +
+  // Retry-After. Effective only below the number of HTTP workers (the server's default: 24 of 32).
+  int max_pending_writes = 24;
 };
 
 class HttpApi {

@@ -16,8 +16,13 @@ void BindServerSettings(SettingsBinder& b, ServerOptions& o) {
          &o.backup_dir);
   b.Bind("bind", "address to listen on; any non-loopback address requires API tokens", &o.bind);
   b.Bind("port", "TCP port (0 = any free port, printed at start-up)", &o.port, 0, 65535);
-  b.Bind("threads", "HTTP worker threads; cpp-httplib holds one per open keep-alive connection, so this bounds the "
-                    "connections served at once", &o.threads, 1, 1024);
+  b.Bind("threads", "HTTP worker threads: requests served at once. A worker serves one request, not a connection: "
+                    "idle keep-alive connections hold none", &o.threads, 1, 1024);
+  b.Bind("max_connections", "client connections open at once; one more closes the longest-idle keep-alive connection, "
+                            "or, if none is idle, is answered 503 with Retry-After and closed", &o.max_connections, 1, 100000);
+  b.Bind("max_queued_requests", "complete requests waiting for a worker; one more is answered 503 with Retry-After "
+                                "(and its connection closed)", &o.max_queued_requests, 1, 1000000);
+  b.Bind("idle_timeout_s", "an idle keep-alive connection is closed after this long [s]", &o.idle_timeout_s, 1, 86400);
   b.Bind("auth", "auto (open on loopback, tokens required elsewhere), required, or off (loopback only)", &o.auth);
   b.Require([&o] { return o.auth == "auto" || o.auth == "required" || o.auth == "off"; }, "auth must be auto, required or off");
   b.Bind("synchronous", "SQLite synchronous mode: FULL (fsync every commit) or NORMAL", &o.synchronous);
@@ -25,9 +30,9 @@ void BindServerSettings(SettingsBinder& b, ServerOptions& o) {
   b.Bind("busy_timeout_ms", "how long SQLite waits for a lock before giving up [ms]", &o.busy_timeout_ms, 0, 600000);
   b.Bind("reader_connections", "read-only SQLite connections in the pool", &o.reader_connections, 1, 64);
   b.Bind("max_body_bytes", "largest accepted request body [bytes]", &o.max_body_bytes, 1024, 4e9);
-  b.Bind("max_pending_writes", "write requests (writer or admin routes) handled at once; one more is answered 503 with "
-                               "Retry-After at once (effective only below `threads`, which bounds all requests in service)",
-         &o.max_pending_writes, 1, 1e6);
+  b.Bind("max_pending_writes", "write requests (writer or admin routes) in service at once; one more is answered 503 "
+                               "with Retry-After at once. Below `threads` (default 24 of 32), so that reads always find "
+                               "a worker while writes wait for the database writer", &o.max_pending_writes, 1, 1e6);
   b.Bind("log_requests", "log one line per request to stderr", &o.log_requests);
   b.Bind("grounding_knowledge", "JSON file {categories, frame_prior} replacing the built-in grounding tables "
                                 "(engine/grounding/*.json); empty = built in", &o.grounding_knowledge);

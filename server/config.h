@@ -20,13 +20,18 @@ struct ServerOptions {
   std::string backup_dir;  // empty: "backups" beside the database file
   std::string bind = "127.0.0.1";
   int port = 8765;
+  // Serving limits (server/http_serving.h). max_pending_writes < threads, so that writes (which wait for the one
+  // SQLite writer) never take more than 3/4 of the workers and reads always find one.
   int threads = 32;
+  int max_connections = 512;
+  int max_queued_requests = 512;
+  int idle_timeout_s = 60;
   std::string auth = "auto";
   std::string synchronous = "FULL";
   int busy_timeout_ms = 5000;
   int reader_connections = 4;
   std::int64_t max_body_bytes = 64ll << 20;
-  int max_pending_writes = 64;
+  int max_pending_writes = 24;
   bool log_requests = true;
   std::string grounding_knowledge;  // file replacing the built-in grounding tables; empty = built in
 };

@@ -17,13 +17,13 @@
 #include "schema/error.h"
 #include "server/auth.h"
 #include "server/config.h"
+#include "server/http_serving.h"
 #include "services/jobs/forget_job.h"
 #include "storage/backup.h"
 #include "storage/forgetting.h"
 #include "storage/repositories.h"
 #include "storage/store.h"
 
-#include <httplib.h>  // after Eigen (see api/http_api.h)
 
 extern char** environ;
 
@@ -117,6 +117,13 @@ int Serve(const Config& config) {
     Log("jobs interrupted by the previous stop, marked failed: " + std::to_string(capabilities.jobs.interrupted_at_start()));
   }
 
+  ServingLimits limits;
+  limits.worker_threads = o.threads;
+  limits.max_connections = o.max_connections;
+  limits.max_queued_requests = o.max_queued_requests;
+  limits.idle_timeout_s = o.idle_timeout_s;
+  HttpServing serving(limits);
+
   api::HttpOptions options;
   options.auth_required = auth_required;
   options.authenticate = [&store](const std::string& token) -> std::optional<api::Role> {
@@ -126,36 +133,38 @@ int Serve(const Config& config) {
   };
   if (config.server.log_requests) options.log = Log;
   options.settings = [config] { return SettingsJson(config); };
+  options.extra_metrics = [&serving] { return serving.PrometheusText(); };
   options.max_body_bytes = static_cast<std::size_t>(o.max_body_bytes);
   options.max_pending_writes = o.max_pending_writes;
   api::HttpApi http(options);
   api::RegisterAllRoutes(http.router(), capabilities);
+  // Every accepted socket gets TCP_NODELAY (server/http_serving.cc): without it, headers and body leave in two
+  // writes and every kept-alive request waits ~40 ms for the peer's delayed ACK.
+  http.Mount(serving.routes());
 
-  httplib::Server server;
-  const int threads = config.server.threads;
-  server.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
-  server.set_keep_alive_max_count(100000);
-  // Without TCP_NODELAY, headers and body leave in two writes and every kept-alive request waits ~40 ms for
-  // the peer's delayed ACK (measured by bench/: 180 req/s instead of 16,000).
-  server.set_tcp_nodelay(true);
-  server.set_read_timeout(10, 0);
-  http.Mount(server);
-
-  const int port = config.server.port == 0 ? server.bind_to_any_port(config.server.bind) : (server.bind_to_port(config.server.bind, config.server.port) ? config.server.port : -1);
-  if (port < 0) {
-    std::cerr << "anchordb: cannot listen on " << config.server.bind << ":" << config.server.port << "\n";
+  int port = -1;
+  try {
+    port = serving.Bind(config.server.bind, config.server.port);
+  } catch (const std::runtime_error& e) {
+    std::cerr << "anchordb: " << e.what() << "\n";
     return 1;
   }
-  std::thread signal_thread([&server, signals] {
+  std::thread signal_thread([&serving, signals] {
     int received = 0;
     sigwait(&signals, &received);
     Log(std::string("received ") + (received == SIGINT ? "SIGINT" : "SIGTERM") + ", shutting down");
-    server.stop();
+    serving.Stop();
   });
   std::printf("anchordb listening on http://%s:%d (db %s, schema version %d, auth %s)\n", config.server.bind.c_str(), port,
               config.server.db.c_str(), report.to_version, auth_required ? "required" : "off (loopback)");
   std::fflush(stdout);
-  const bool ok = server.listen_after_bind();
+  bool ok = true;
+  try {
+    serving.Run();
+  } catch (const std::exception& e) {
+    Log(std::string("serving failed: ") + e.what());
+    ok = false;
+  }
   if (signal_thread.joinable()) {
     pthread_kill(signal_thread.native_handle(), SIGTERM);  // wakes sigwait if the server stopped for another reason
     signal_thread.join();
