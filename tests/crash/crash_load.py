@@ -53,7 +53,7 @@ class Trial:
         self.lock = threading.Lock()
         self.maps, self.layers = set(), {}          # layers: (map, name) -> [base version, acked, unanswered]
         self.label_names = collections.defaultdict(set)  # (map, label layer) -> acknowledged label names
-        self.scenes = {}     # (map, id) -> {"acked", "unanswered", "closed", "close_unanswered"}
+        self.scenes = {}     # (map, id) -> {"acked": frames, "unanswered": frames, "closed": close acknowledged}
         self.keyframes = {}  # (map, id) -> {"pinned": acked pin}
         self.instances = {}  # (map, id) -> {"labels": possible top labels, "pinned": possible states}
         self.old_keyframes = set()
@@ -184,7 +184,7 @@ def open_scene(trial, conn, m, x, stamp_ns=None):
     if not ok(answer):
         return None
     key = (m, answer[1]["id"])
-    trial.scenes[key] = {"acked": 0, "unanswered": 0, "closed": False, "close_unanswered": False}
+    trial.scenes[key] = {"acked": 0, "unanswered": 0, "closed": False}
     return key
 
 
@@ -218,8 +218,8 @@ def keyframe_of(trial, key, answer, old=False):
 
 def close_scene(trial, conn, key, old=False):
     answer = conn.call("POST", "/v1/maps/%s/scenes/%d:close" % key)
-    with trial.lock:
-        trial.scenes[key]["closed" if ok(answer) else "close_unanswered"] = ok(answer) or answer is None
+    if ok(answer):
+        trial.scenes[key]["closed"] = True
     keyframe_of(trial, key, answer, old)
 
 
