@@ -1,21 +1,10 @@
-"""The checks of the crash campaign (scripts/crash-campaign) after the restart: the file's soundness, every
-acknowledged write of the ledger against what the restarted server answers, the jobs' outcomes."""
+"""The checks of the crash campaign (scripts/crash-campaign) after the restart: every acknowledged write of the ledger
+against what the restarted server answers, the jobs' outcomes."""
 
 import collections
 import os
-import sqlite3
 
-from crash_load import Connection, ok
-
-
-def soundness(db_path):
-    """(integrity_check text, foreign_key_check rows) of a database file."""
-    con = sqlite3.connect(db_path, timeout=30)
-    try:
-        return ("; ".join(r[0] for r in con.execute("PRAGMA integrity_check")),
-                con.execute("PRAGMA foreign_key_check").fetchall())
-    finally:
-        con.close()
+from crash_load import Connection, harness, ok
 
 
 class Check:
@@ -118,7 +107,7 @@ class Check:
         folder = os.path.join(self.trial.server.tmpdir, "backups")
         files = sorted(f for f in os.listdir(folder) if f.endswith(".sqlite")) if os.path.isdir(folder) else []
         for f in files:
-            integrity, fk = soundness(os.path.join(folder, f))
+            integrity, fk = harness.soundness(os.path.join(folder, f))
             if integrity != "ok" or fk:
                 problems.append("backup file %s: integrity %s, fk %s" % (f, integrity, fk))
         if job is None:
