@@ -275,6 +275,17 @@ def run_server_expecting_exit(args, timeout=20):
 
 # ---------------------------------------------------------------- small helpers shared by the tests
 
+def soundness(db_path):
+    """(PRAGMA integrity_check text, PRAGMA foreign_key_check rows) of a database file; ("ok", []) when sound."""
+    import sqlite3
+    con = sqlite3.connect(db_path, timeout=30)
+    try:
+        return ("; ".join(r[0] for r in con.execute("PRAGMA integrity_check")),
+                con.execute("PRAGMA foreign_key_check").fetchall())
+    finally:
+        con.close()
+
+
 def identity_pose(x, y, yaw=0.0):
     """A pose at (x, y, 0) whose x axis has heading `yaw` in the map frame."""
     import math

@@ -38,15 +38,6 @@ def keyframe_ids(db_path, map_id):
     return {r[0] for r in db_rows(db_path, "SELECT id FROM keyframes WHERE map_id = ?", (map_id,))}
 
 
-def soundness(db_path):
-    con = sqlite3.connect(db_path, timeout=30)
-    try:
-        return ("; ".join(r[0] for r in con.execute("PRAGMA integrity_check")),
-                con.execute("PRAGMA foreign_key_check").fetchall())
-    finally:
-        con.close()
-
-
 def observe_scenes(server, client, map_id, scenes, keyframes_per_scene, age_days, x0=0.0):
     """Opens `scenes` scene models (far apart, no merge), posts a frame and a keyframe `keyframes_per_scene` times
     with stamps `age_days` ago and closes them; returns the ids of the keyframes this stored (begin and end
@@ -126,7 +117,7 @@ class ForgetJobTest(unittest.TestCase):
             c.request("GET", "/v1/maps/home/keyframes/%d" % expected[0])
         self.assertEqual(e.exception.status, 404)
         c.request("GET", "/v1/maps/home/keyframes/%d" % pinned)
-        self.assertEqual(soundness(self.server.db_path), ("ok", []))
+        self.assertEqual(harness.soundness(self.server.db_path), ("ok", []))
 
         # The cron command on the same file while the server runs: nothing old is left to forget.
         out = harness.run_cli(["forget", "--db", self.server.db_path, "--map", "home", "--dry-run",
@@ -146,7 +137,7 @@ class ForgetJobTest(unittest.TestCase):
         # The server goes on serving and writing the file the command vacuumed.
         c.request("GET", "/v1/maps/home/keyframes/%d" % pinned)
         observe_scenes(self.server, c, "home", 1, 1, age_days=0, x0=80.0)
-        self.assertEqual(soundness(self.server.db_path), ("ok", []))
+        self.assertEqual(harness.soundness(self.server.db_path), ("ok", []))
 
     def test_cli_bad_input_exits_2(self):
         self.server.stop()
@@ -293,7 +284,7 @@ class ForgetKill9Test(unittest.TestCase):
             if job["status"] in ("succeeded", "failed") or job["status"] in kill_at or job["stage"] in kill_at:
                 break
         self.server.kill()
-        self.assertEqual(soundness(self.server.db_path), ("ok", []), "after kill -9")
+        self.assertEqual(harness.soundness(self.server.db_path), ("ok", []), "after kill -9")
         self.server.start()
         job = self.server.client.request("GET", "/v1/jobs/%d" % job_id)
         left = keyframe_ids(self.server.db_path, "home")
@@ -308,7 +299,7 @@ class ForgetKill9Test(unittest.TestCase):
                 self.assertEqual(left, set(), job)
             else:
                 self.assertEqual(left, self.old, "a part of the job's deletions happened: %s" % job)
-        self.assertEqual(soundness(self.server.db_path), ("ok", []), "after the restart")
+        self.assertEqual(harness.soundness(self.server.db_path), ("ok", []), "after the restart")
         # The server works on after the restart: a new job finishes the work.
         again, _ = wait_job(self.server.client,
                             self.server.client.request("POST", "/v1/maps/home:forget", {"policy": policy})["job"])
@@ -319,7 +310,7 @@ class ForgetKill9Test(unittest.TestCase):
                  again["result"]["seconds"], ", file %d -> %d bytes" % (vacuum["file_bytes_before"],
                                                                        vacuum["file_bytes_after"]) if vacuum else ""))
         self.assertEqual(keyframe_ids(self.server.db_path, "home"), set())
-        self.assertEqual(soundness(self.server.db_path), ("ok", []))
+        self.assertEqual(harness.soundness(self.server.db_path), ("ok", []))
         return job
 
     def test_kill_9_while_deleting(self):
@@ -333,7 +324,7 @@ class ForgetKill9Test(unittest.TestCase):
     def test_sigterm_during_a_job_stops_cleanly(self):
         job_id = self.c.request("POST", "/v1/maps/home:forget", {"policy": {"keyframe_max_age_s": 86400}})["job"]
         self.assertEqual(self.server.stop(), 0, self.server.stderr_text())
-        self.assertEqual(soundness(self.server.db_path), ("ok", []))
+        self.assertEqual(harness.soundness(self.server.db_path), ("ok", []))
         self.server.start()
         job = self.server.client.request("GET", "/v1/jobs/%d" % job_id)
         left = keyframe_ids(self.server.db_path, "home")
