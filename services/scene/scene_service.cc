@@ -251,8 +251,8 @@ FrameResult SceneService::AddFrame(const std::string& map, std::int64_t id, cons
     WriteFrame(m, step, {});
     return FrameCommitted(m, step);
   } catch (...) {
-    // The state holds a frame the database does not: with the journal, the next request reloads the model (its
-    // checkpoint plus its journal) instead of answering from it. Without, the model stays as it was before.
+    // The state may hold a frame the database does not: with the journal, the next request reloads the model (its
+    // checkpoint plus its journal) instead of answering from it. Without it, the frame stays in memory, as before.
     if (limits_.frame_journal) Evict(m);
     throw;
   }

@@ -13,13 +13,6 @@
 namespace anchordb::storage {
 namespace {
 
-StoreOptions OptionsFor(const std::string& path) {
-  StoreOptions o;
-  o.path = path;
-  o.reader_connections = 1;
-  return o;
-}
-
 std::int64_t AddScene(Store& store, const std::string& map) {
   return store.Write([&](Connection& c) {
     if (!FindMap(c, map)) InsertMap(c, {map, map, 1});
@@ -59,13 +52,13 @@ TEST(FrameJournalTest, AppendReadBackAcrossReopenTrimAndDelete) {
   const std::string path = dir.File("journal.sqlite");
   std::int64_t scene = 0, other = 0;
   {
-    Store store(OptionsFor(path));
+    Store store(StoreOptions{path});
     scene = AddScene(store, "home");
     other = AddScene(store, "home");
     for (int k = 1; k <= 5; ++k) store.Write([&](Connection& c) { AppendJournalFrame(c, Frame(scene, k, k % 3 != 0)); });
     store.Write([&](Connection& c) { AppendJournalFrame(c, Frame(other, 1, true)); });
   }
-  Store store(OptionsFor(path));
+  Store store(StoreOptions{path});
   auto read = [&](std::int64_t id, std::int64_t from) { return store.Read([&](Connection& c) { return ReadJournal(c, id, from); }); };
   const auto all = read(scene, 0);
   ASSERT_EQ(all.size(), 5u);
@@ -101,7 +94,7 @@ TEST(FrameJournalTest, AppendReadBackAcrossReopenTrimAndDelete) {
 
 TEST(FrameJournalTest, RowsGoWithTheirSceneModelAndTheirMap) {
   testing::TempDir dir;
-  Store store(OptionsFor(dir.File("journal.sqlite")));
+  Store store(StoreOptions{dir.File("journal.sqlite")});
   const std::int64_t a = AddScene(store, "home");
   const std::int64_t b = AddScene(store, "home");
   const std::int64_t c_other = AddScene(store, "office");
