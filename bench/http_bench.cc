@@ -1,12 +1,13 @@
 // anchordb_http_peer: the HTTP benchmark's peer (SPEC section 7, "cpp-httplib's bare handler for HTTP").
-// Serves every GET with one fixed JSON body from a bare cpp-httplib handler, with the same server settings as
-// server/main.cc (ThreadPool of --threads workers, keep-alive max count 100000, read timeout 10 s), so that
-// wrk against it and against `anchordb serve` in the same run shows what anchordb's routing, auth, metrics and
-// SQLite read add on top of the HTTP library.
+// Serves every GET with one fixed JSON body from a bare cpp-httplib handler with cpp-httplib's own serving (a
+// ThreadPool of --threads workers, one per keep-alive connection; keep-alive max count 100000, read timeout 10 s), so
+// that wrk against it and against `anchordb serve` in the same run shows what anchordb's routing, auth, metrics,
+// SQLite read and fair serving (server/http_serving.h: a reactor and a pool that serves requests) add on top of the
+// HTTP library. With wrk's 16 connections below 32 workers, the peer's one-worker-per-connection never starves.
 //
 //   anchordb_http_peer [--bind 127.0.0.1] [--port 0] [--threads 32] [--body_bytes 400] [--tcp_nodelay true]
 //
-// --threads and --tcp_nodelay default to what server/main.cc uses (32 workers, TCP_NODELAY on); with TCP_NODELAY
+// --threads and --tcp_nodelay default to what anchordb uses (32 workers, TCP_NODELAY on); with TCP_NODELAY
 // off, each response (headers and body written separately) meets Nagle + delayed ACK on keep-alive connections.
 //
 // Prints "anchordb_http_peer listening on http://<bind>:<port> ..." on stdout once bound (port 0 = any free

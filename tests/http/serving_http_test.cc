@@ -132,6 +132,16 @@ class ServingHttpTest : public ::testing::Test {
     server_ = std::make_unique<testing::ServerProcess>(dir_.File("serving.sqlite"), std::move(args));
   }
   int port() const { return server_->port(); }
+  // `n` keep-alive connections that each had one request answered and now wait, idle; fewer if one was not answered.
+  std::vector<std::unique_ptr<RawConnection>> IdleConnections(int n) {
+    std::vector<std::unique_ptr<RawConnection>> out;
+    for (int i = 0; i < n; ++i) {
+      auto c = std::make_unique<RawConnection>(port());
+      if (!c->Send(Get("/v1/maps")) || !c->Read()) break;
+      out.push_back(std::move(c));
+    }
+    return out;
+  }
 
   testing::TempDir dir_;
   std::unique_ptr<testing::ServerProcess> server_;
@@ -168,12 +178,8 @@ TEST_F(ServingHttpTest, TwoHundredKeepAliveConnectionsOnFourWorkersAreAllAnswere
 
 TEST_F(ServingHttpTest, IdleKeepAlivesBeyondTheWorkersDoNotBlockANewConnection) {
   Start({"--threads=2"});
-  std::vector<std::unique_ptr<RawConnection>> idle;
-  for (int i = 0; i < 20; ++i) {
-    idle.push_back(std::make_unique<RawConnection>(port()));
-    ASSERT_TRUE(idle.back()->Send(Get("/v1/maps")));
-    ASSERT_TRUE(idle.back()->Read()) << i;
-  }
+  const auto idle = IdleConnections(20);
+  ASSERT_EQ(idle.size(), 20u);
   RawConnection fresh(port());
   ASSERT_TRUE(fresh.Send(Get("/v1/health")));
   const auto a = fresh.Read();
@@ -329,12 +335,8 @@ TEST_F(ServingHttpTest, PipelinedRequestsOnOneConnectionAreAnsweredInOrder) {
 
 TEST_F(ServingHttpTest, SigtermWithIdleKeepAlivesOpenStopsCleanly) {
   Start({"--threads=2"});
-  std::vector<std::unique_ptr<RawConnection>> idle;
-  for (int i = 0; i < 50; ++i) {
-    idle.push_back(std::make_unique<RawConnection>(port()));
-    ASSERT_TRUE(idle.back()->Send(Get("/v1/health")));
-    ASSERT_TRUE(idle.back()->Read());
-  }
+  const auto idle = IdleConnections(50);
+  ASSERT_EQ(idle.size(), 50u);
   RawConnection mid_head(port());
   ASSERT_TRUE(mid_head.Send("GET /v1/health HTTP/1.1\r\n"));
   const int status = server_->Stop();  // waits for the process; a server held by its idle connections would hang here
