@@ -163,10 +163,17 @@ void SceneService::Persist(Model& m) {
 }
 
 StoredKeyframe SceneService::StoreKeyframe(Model& m, KeyframeKind kind, std::int64_t stamp_ns) {
+  const std::vector<std::uint16_t> background_mm = ToMillimetres(m.state.background_m);
+  const storage::KeyframeRecord k = KeyframeRecordOf(m, kind, stamp_ns, background_mm);
+  const std::int64_t id = store_.Write([&](storage::Connection& c) { return storage::InsertKeyframe(c, k); });
+  return KeyframeStored(m, k, id, kind, stamp_ns, background_mm);
+}
+
+storage::KeyframeRecord SceneService::KeyframeRecordOf(const Model& m, KeyframeKind kind, std::int64_t stamp_ns,
+                                                       const std::vector<std::uint16_t>& background_mm) const {
   if (m.last_depth_mm.empty()) {
     throw Error(ErrorCode::kConflict, "scene " + std::to_string(m.record.id) + " has received no frame since it was (re)loaded");
   }
-  const std::vector<std::uint16_t> background_mm = ToMillimetres(m.state.background_m);
   storage::KeyframeRecord k;
   k.map_id = m.record.map_id;
   k.scene_id = m.record.id;
@@ -180,8 +187,13 @@ StoredKeyframe SceneService::StoreKeyframe(Model& m, KeyframeKind kind, std::int
   k.background = storage::EncodeBlob(BlobElement::kU16, shape, storage::AsBytes(background_mm), 3, storage::BlobFilter::kDeltaShuffle16);
   k.raw_bytes = static_cast<std::int64_t>(2 * 2 * m.last_depth_mm.size());
   k.stored_bytes = static_cast<std::int64_t>(k.depth.size() + k.background.size());
+  return k;
+}
+
+StoredKeyframe SceneService::KeyframeStored(Model& m, const storage::KeyframeRecord& k, std::int64_t id, KeyframeKind kind,
+                                            std::int64_t stamp_ns, const std::vector<std::uint16_t>& background_mm) {
   StoredKeyframe out;
-  out.id = store_.Write([&](storage::Connection& c) { return storage::InsertKeyframe(c, k); });
+  out.id = id;
   out.kind = kind;
   out.action_layer = k.action_layer;
   ++m.next_action_layer;
@@ -219,14 +231,36 @@ FrameResult SceneService::AddFrame(const std::string& map, std::int64_t id, cons
   auto [depth, dynamic] = DecodeFrame(in, m.K);
   const double scale = in.depth_scale ? CheckDepthScale(*in.depth_scale, "depth_scale") : m.params.depth_scale;
   const std::int64_t stamp = in.stamp_ns.value_or(clock_.NowNs());
-  if (m.merge.pending.value_or(false)) {
-    MergeFirstFrame(m, depth.pixels, scale, dynamic);
-  } else {
-    m.last_counts = engine::ApplyFrame(m.state, depth.pixels, scale, dynamic, m.params.model);
+  // A frame answered with an error (a failed keyframe or checkpoint write) must leave the model as it was: the
+  // in-memory model never claims a frame the client was not told was taken. When the failure came after a committed
+  // state (the first frame's merge), the model is reloaded from the database instead.
+  auto undo = std::make_tuple(m.state, m.last_counts, m.last_depth_mm, m.record.last_frame_ns, m.unpersisted_frames,
+                              m.settle, m.has_begin_keyframe, m.next_action_layer);
+  const std::int64_t state_version = m.record.state_version;
+  try {
+    return ApplyAndStoreFrame(m, id, depth.pixels, scale, dynamic, stamp);
+  } catch (...) {
+    if (m.record.state_version == state_version) {
+      std::tie(m.state, m.last_counts, m.last_depth_mm, m.record.last_frame_ns, m.unpersisted_frames, m.settle,
+               m.has_begin_keyframe, m.next_action_layer) = std::move(undo);
+    } else {
+      std::lock_guard<std::mutex> models_lock(models_mutex_);
+      models_.erase(id);
+    }
+    throw;
   }
-  m.last_depth_mm.resize(depth.pixels.size());
-  for (std::size_t i = 0; i < depth.pixels.size(); ++i) {
-    m.last_depth_mm[i] = static_cast<std::uint16_t>(std::min(65535.0, std::round(depth.pixels[i] * 1000.0 / scale)));
+}
+
+FrameResult SceneService::ApplyAndStoreFrame(Model& m, std::int64_t id, const std::vector<std::uint16_t>& depth, double scale,
+                                             const std::vector<std::uint8_t>& dynamic, std::int64_t stamp) {
+  if (m.merge.pending.value_or(false)) {
+    MergeFirstFrame(m, depth, scale, dynamic);
+  } else {
+    m.last_counts = engine::ApplyFrame(m.state, depth, scale, dynamic, m.params.model);
+  }
+  m.last_depth_mm.resize(depth.size());
+  for (std::size_t i = 0; i < depth.size(); ++i) {
+    m.last_depth_mm[i] = static_cast<std::uint16_t>(std::min(65535.0, std::round(depth[i] * 1000.0 / scale)));
   }
   m.record.last_frame_ns = stamp;
   ++m.unpersisted_frames;
@@ -262,15 +296,26 @@ CloseResult SceneService::Close(const std::string& map, std::int64_t id) {
   CloseResult out;
   out.scene_id = id;
   const std::int64_t end = m.record.last_frame_ns.value_or(clock_.NowNs());
-  if (!m.last_depth_mm.empty()) out.keyframe = StoreKeyframe(m, KeyframeKind::kEnd, end);
-  Persist(m);
-  store_.Write([&](storage::Connection& c) { storage::UpdateSceneStatus(c, id, "closed", end, std::nullopt); });
+  // The end keyframe, the state and the status in one transaction: a failure leaves the model observing and
+  // nothing of the close written, so the close can be sent again.
+  const std::vector<std::uint16_t> background_mm = ToMillimetres(m.state.background_m);
+  std::optional<storage::KeyframeRecord> k;
+  if (!m.last_depth_mm.empty()) k = KeyframeRecordOf(m, KeyframeKind::kEnd, end, background_mm);
+  const storage::SceneRecord state = StateRecord(m.record, m.K, m.state);
+  const std::int64_t keyframe_id = store_.Write([&](storage::Connection& c) {
+    const std::int64_t kid = k ? storage::InsertKeyframe(c, *k) : 0;
+    storage::UpdateSceneState(c, state, m.record.state_version);
+    storage::UpdateSceneStatus(c, id, "closed", end, std::nullopt);
+    return kid;
+  });
+  m.Persisted(state);
   m.record.status = "closed";
   m.record.ended_ns = end;
   {
     std::lock_guard<std::mutex> models_lock(models_mutex_);  // closed models are not kept in memory
     models_.erase(id);
   }
+  if (k) out.keyframe = KeyframeStored(m, *k, keyframe_id, KeyframeKind::kEnd, end, background_mm);
   out.status = SceneStatus::kClosed;
   out.frames = m.state.frames;
   return out;

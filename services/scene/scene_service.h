@@ -17,6 +17,7 @@
 #include "services/common/exported_bytes.h"
 #include "services/scene/keyframe_listener.h"
 #include "services/scene/scene_types.h"
+#include "storage/scene_repository.h"
 #include "storage/store.h"
 
 namespace anchordb::services {
@@ -72,6 +73,13 @@ class SceneService {
   std::shared_ptr<Model> Load(const std::string& map, std::int64_t id);
   void Persist(Model& model);
   StoredKeyframe StoreKeyframe(Model& model, KeyframeKind kind, std::int64_t stamp_ns);
+  storage::KeyframeRecord KeyframeRecordOf(const Model& model, KeyframeKind kind, std::int64_t stamp_ns,
+                                           const std::vector<std::uint16_t>& background_mm) const;
+  // After the keyframe `k` was committed as `id`: the model's keyframe bookkeeping and the listener's analysis.
+  StoredKeyframe KeyframeStored(Model& model, const storage::KeyframeRecord& k, std::int64_t id, KeyframeKind kind,
+                                std::int64_t stamp_ns, const std::vector<std::uint16_t>& background_mm);
+  FrameResult ApplyAndStoreFrame(Model& model, std::int64_t id, const std::vector<std::uint16_t>& depth, double scale,
+                                 const std::vector<std::uint8_t>& dynamic, std::int64_t stamp_ns);
   std::optional<KeyframeAnalysis> Analyse(const Model& model, const StoredKeyframe& keyframe, std::int64_t stamp_ns,
                                           const std::vector<std::uint16_t>& background_mm);
   SceneInfo Describe(const Model& model) const;
