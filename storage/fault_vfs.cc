@@ -19,10 +19,11 @@ std::atomic<bool> g_fired{false};
 
 bool Armed(FaultKind kind) { return g_kind.load(std::memory_order_acquire) == static_cast<int>(kind); }
 
-// Counts one call of an armed kind; true when this call fails (from the Nth on).
+// Counts one call of an armed kind; true when this call fails: I/O from the Nth call on, an allocation only the Nth.
 bool CountCall(FaultKind kind) {
   if (!Armed(kind)) return false;
-  if (g_count.fetch_add(1) + 1 < g_nth.load()) return false;
+  const std::int64_t call = g_count.fetch_add(1) + 1, nth = g_nth.load();
+  if (kind == FaultKind::kAllocation ? call != nth : call < nth) return false;
   g_fired = true;
   return true;
 }

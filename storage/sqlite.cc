@@ -20,8 +20,8 @@ void ThrowSqliteError(sqlite3* db, int rc, std::string_view what) {
   std::string message = std::string(what) + ": " + (db ? sqlite3_errmsg(db) : sqlite3_errstr(rc)) +
                         " (SQLite result code " + std::to_string(rc) + ")";
   const ErrorCode code = ErrorCodeOfSqlite(rc);
-  if (code == ErrorCode::kInsufficientStorage) message = "the disk is full; nothing was written: " + message;
-  if (code == ErrorCode::kUnavailable) message = "storage is unavailable for now; nothing was written: " + message;
+  if (code == ErrorCode::kInsufficientStorage) message = "the disk is full: " + message;
+  if (code == ErrorCode::kUnavailable) message = "storage is unavailable for now, retry later: " + message;
   throw Error(code, message);
 }
 

@@ -198,7 +198,14 @@ StoredKeyframe SceneService::KeyframeStored(Model& m, const storage::KeyframeRec
   out.action_layer = k.action_layer;
   ++m.next_action_layer;
   m.settle.OnKeyframe(m.last_counts.movable);
-  out.analysis = Analyse(m, out, stamp_ns, background_mm);
+  try {
+    out.analysis = Analyse(m, out, stamp_ns, background_mm);
+  } catch (const Error& e) {
+    // The keyframe is committed; its analysis could not be read or written now (the disk fails or is full, memory
+    // ran out). The answer goes without an analysis rather than an error that would make the client send again
+    // what is stored already. (Issue 12: the analysis belongs in the keyframe's transaction.)
+    if (e.code() != ErrorCode::kUnavailable && e.code() != ErrorCode::kInsufficientStorage) throw;
+  }
   return out;
 }
 

@@ -281,8 +281,10 @@ Outcome Send(InProcessServer& server, const Step& step, MixState& state) {
     if (step.taken) step.taken(body, state);
     if (!step.job) return {true, ""};
     EXPECT_TRUE(server.capabilities().jobs.WaitIdle(120.0));
-    const auto job = server.client().Get("/v1/jobs/" + std::to_string(body.at("job").get<std::int64_t>()));
-    if (!job || job->status != 200) return {false, "FAILED: the job cannot be read"};
+    const std::string path = "/v1/jobs/" + std::to_string(body.at("job").get<std::int64_t>());
+    auto job = server.client().Get(path);
+    if (job && job->status == 503 && job->has_header("Retry-After")) job = server.client().Get(path);  // a failed allocation
+    if (!job || job->status != 200) return {false, "FAILED: the job cannot be read: " + (job ? job->body : "no answer")};
     const json j = json::parse(job->body);
     if (j["status"] == "succeeded") return {true, ""};
     if (j["status"] == "failed" && j["error"].is_string() && !j["error"].get<std::string>().empty()) return {false, "job failed"};
