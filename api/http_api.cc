@@ -40,6 +40,8 @@ int HttpStatusFor(ErrorCode code) {
     case ErrorCode::kPayloadTooLarge: return 413;
     case ErrorCode::kUnsupportedMediaType: return 415;
     case ErrorCode::kOverloaded: return 503;
+    case ErrorCode::kUnavailable: return 503;
+    case ErrorCode::kInsufficientStorage: return 507;
     case ErrorCode::kInternal: return 500;
   }
   return 500;
@@ -158,7 +160,7 @@ std::string LogSafe(const std::string& line) {
 
 void SetError(httplib::Response& res, ErrorCode code, const std::string& message, const std::string& field) {
   res.status = HttpStatusFor(code);
-  if (code == ErrorCode::kOverloaded) res.set_header("Retry-After", "1");  // every 503 says when to come back
+  if (HttpStatusFor(code) == 503) res.set_header("Retry-After", "1");  // every 503 says when to come back
   res.set_content(ErrorBody(code, message, field), "application/json");
 }
 

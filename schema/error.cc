@@ -14,6 +14,8 @@ const char* ErrorCodeName(ErrorCode code) {
     case ErrorCode::kPayloadTooLarge: return "payload_too_large";
     case ErrorCode::kUnsupportedMediaType: return "unsupported_media_type";
     case ErrorCode::kOverloaded: return "overloaded";
+    case ErrorCode::kUnavailable: return "unavailable";
+    case ErrorCode::kInsufficientStorage: return "insufficient_storage";
     case ErrorCode::kInternal: return "internal";
   }
   return "internal";

@@ -17,6 +17,8 @@ enum class ErrorCode {
   kPayloadTooLarge,       // body or array over its limit (413)
   kUnsupportedMediaType,  // wrong Content-Type for the route (415)
   kOverloaded,            // a bounded queue is full (503)
+  kUnavailable,           // storage failed for now (I/O error, out of memory); nothing was written, retry (503)
+  kInsufficientStorage,   // the disk is full; nothing was written (507)
   kInternal,              // a bug or an I/O failure (500)
 };
 

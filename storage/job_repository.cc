@@ -33,8 +33,9 @@ std::optional<JobRecord> FindJob(Connection& c, std::int64_t id) {
   return r;
 }
 
-std::optional<std::int64_t> NextQueuedJob(Connection& c) {
-  Statement s(c, "SELECT id FROM jobs WHERE status = 'queued' ORDER BY id LIMIT 1");
+std::optional<std::int64_t> NextQueuedJob(Connection& c, std::int64_t after_id) {
+  Statement s(c, "SELECT id FROM jobs WHERE status = 'queued' AND id > ? ORDER BY id LIMIT 1");
+  s.Bind(1, after_id);
   if (!s.Step()) return std::nullopt;
   return s.Int(0);
 }

@@ -27,7 +27,7 @@ std::int64_t InsertJob(Connection& c, const std::string& kind, const std::option
                        const std::string& request_json, std::int64_t now_ns);
 std::optional<JobRecord> FindJob(Connection& c, std::int64_t id);
 // The oldest queued job.
-std::optional<std::int64_t> NextQueuedJob(Connection& c);
+std::optional<std::int64_t> NextQueuedJob(Connection& c, std::int64_t after_id = 0);
 // result: kept as stored when null; error: replaced (null clears it).
 void SetJobStatus(Connection& c, std::int64_t id, const std::string& status, const std::string& stage, double progress,
                   const std::string* result_json, const std::string* error, std::int64_t now_ns);

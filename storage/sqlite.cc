@@ -4,13 +4,25 @@
 
 namespace anchordb::storage {
 
+ErrorCode ErrorCodeOfSqlite(int rc) {
+  switch (rc & 0xff) {
+    case SQLITE_CONSTRAINT: return ErrorCode::kConflict;
+    case SQLITE_BUSY:
+    case SQLITE_LOCKED: return ErrorCode::kOverloaded;
+    case SQLITE_FULL: return ErrorCode::kInsufficientStorage;
+    case SQLITE_IOERR:
+    case SQLITE_NOMEM: return ErrorCode::kUnavailable;
+    default: return ErrorCode::kInternal;
+  }
+}
+
 void ThrowSqliteError(sqlite3* db, int rc, std::string_view what) {
-  const std::string message = std::string(what) + ": " + (db ? sqlite3_errmsg(db) : sqlite3_errstr(rc)) +
-                              " (SQLite result code " + std::to_string(rc) + ")";
-  const int primary = rc & 0xff;
-  if (primary == SQLITE_CONSTRAINT) throw Error(ErrorCode::kConflict, message);
-  if (primary == SQLITE_BUSY || primary == SQLITE_LOCKED) throw Error(ErrorCode::kOverloaded, message);
-  throw Error(ErrorCode::kInternal, message);
+  std::string message = std::string(what) + ": " + (db ? sqlite3_errmsg(db) : sqlite3_errstr(rc)) +
+                        " (SQLite result code " + std::to_string(rc) + ")";
+  const ErrorCode code = ErrorCodeOfSqlite(rc);
+  if (code == ErrorCode::kInsufficientStorage) message = "the disk is full: " + message;
+  if (code == ErrorCode::kUnavailable) message = "storage is unavailable for now, retry later: " + message;
+  throw Error(code, message);
 }
 
 namespace {
@@ -29,20 +41,34 @@ Connection::Connection(const std::string& path, const ConnectionOptions& options
   ConfigureSqliteOnce();
   const int flags = (options.read_only ? SQLITE_OPEN_READONLY : (SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE)) |
                     SQLITE_OPEN_NOMUTEX;
-  const int rc = sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
+  const int rc = sqlite3_open_v2(path.c_str(), &db_, flags, options.vfs.empty() ? nullptr : options.vfs.c_str());
   if (rc != SQLITE_OK) {
     const std::string message = "cannot open database " + path + ": " + (db_ ? sqlite3_errmsg(db_) : sqlite3_errstr(rc));
     sqlite3_close_v2(db_);
     db_ = nullptr;
-    throw Error(ErrorCode::kInternal, message);
+    const ErrorCode code = ErrorCodeOfSqlite(rc);
+    throw Error(code == ErrorCode::kConflict ? ErrorCode::kInternal : code, message);
   }
   sqlite3_extended_result_codes(db_, 1);
   sqlite3_busy_timeout(db_, options.busy_timeout_ms);
-  Exec("PRAGMA foreign_keys = ON");
-  if (!options.read_only) {
-    Exec("PRAGMA journal_mode = WAL");
-    Exec("PRAGMA synchronous = " + options.synchronous);
+  try {
+    Exec("PRAGMA foreign_keys = ON");
+    if (!options.read_only) {
+      Exec("PRAGMA journal_mode = WAL");
+      Exec("PRAGMA synchronous = " + options.synchronous);
+    }
+  } catch (...) {
+    sqlite3_close_v2(db_);  // the destructor does not run for a constructor that throws
+    db_ = nullptr;
+    throw;
   }
+}
+
+void Connection::EndStuckTransaction() {
+  if (sqlite3_get_autocommit(db_)) return;
+  char* err = nullptr;
+  sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, &err);
+  sqlite3_free(err);
 }
 
 Connection::~Connection() {
@@ -128,17 +154,23 @@ void Statement::Run() {
   }
 }
 
+// A NULL pointer is an SQL NULL, an empty value, or a failed conversion (out of memory): only the last is an error.
 std::string Statement::Text(int c) const {
   const auto* p = sqlite3_column_text(stmt_, c);
+  if (!p && sqlite3_errcode(db_) == SQLITE_NOMEM) ThrowSqliteError(db_, SQLITE_NOMEM, "column");
   return p ? std::string(reinterpret_cast<const char*>(p), sqlite3_column_bytes(stmt_, c)) : std::string();
 }
 
 std::string Statement::Blob(int c) const {
   const void* p = sqlite3_column_blob(stmt_, c);
+  if (!p && sqlite3_errcode(db_) == SQLITE_NOMEM) ThrowSqliteError(db_, SQLITE_NOMEM, "column");
   return p ? std::string(static_cast<const char*>(p), sqlite3_column_bytes(stmt_, c)) : std::string();
 }
 
-ReadTransaction::ReadTransaction(Connection& connection) : connection_(connection) { Statement(connection_, "BEGIN").Run(); }
+ReadTransaction::ReadTransaction(Connection& connection) : connection_(connection) {
+  connection_.EndStuckTransaction();  // an earlier snapshot whose end failed (out of memory) must not stay open
+  Statement(connection_, "BEGIN").Run();
+}
 
 ReadTransaction::~ReadTransaction() {
   try {
@@ -148,7 +180,10 @@ ReadTransaction::~ReadTransaction() {
   }
 }
 
-Transaction::Transaction(Connection& connection) : connection_(connection) { connection_.Exec("BEGIN IMMEDIATE"); }
+Transaction::Transaction(Connection& connection) : connection_(connection) {
+  connection_.EndStuckTransaction();  // a failed write whose rollback failed too must not stay open
+  connection_.Exec("BEGIN IMMEDIATE");
+}
 
 Transaction::~Transaction() {
   if (!done_) {

@@ -1,6 +1,8 @@
 #pragma once
-// Thin RAII wrappers over the SQLite C API. Every failure throws anchordb::Error (kInternal, or kConflict for
-// constraint violations, kOverloaded when the busy timeout ran out) with SQLite's message.
+// Thin RAII wrappers over the SQLite C API. Every failure throws anchordb::Error with SQLite's message: kConflict for
+// constraint violations, kOverloaded when the busy timeout ran out, kInsufficientStorage when the disk is full,
+// kUnavailable for I/O errors and out of memory (the statement had no effect; retrying later may succeed), else
+// kInternal.
 #include <sqlite3.h>
 
 #include <cstdint>
@@ -10,6 +12,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include "schema/error.h"
+
 namespace anchordb::storage {
 
 struct ConnectionOptions {
@@ -18,6 +22,8 @@ struct ConnectionOptions {
   // durable across process crashes in WAL mode.
   std::string synchronous = "FULL";
   bool read_only = false;
+  // The SQLite VFS to open the file with; empty: the process default (the unix VFS unless a test replaced it).
+  std::string vfs;
 };
 
 class Connection {
@@ -30,6 +36,8 @@ class Connection {
   sqlite3* handle() const { return db_; }
   void Exec(std::string_view sql);
   std::int64_t Changes() const { return sqlite3_changes64(db_); }
+  // Rolls back a transaction left open (a failed statement whose ROLLBACK failed as well); no-op in autocommit.
+  void EndStuckTransaction();
 
  private:
   friend class Statement;
@@ -109,5 +117,8 @@ inline std::optional<std::int64_t> OptionalInt(const Statement& s, int column) {
 }
 
 [[noreturn]] void ThrowSqliteError(sqlite3* db, int rc, std::string_view what);
+
+// The error kind of a SQLite result code (see the header comment).
+ErrorCode ErrorCodeOfSqlite(int rc);
 
 }  // namespace anchordb::storage

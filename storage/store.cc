@@ -19,6 +19,14 @@ Store::~Store() {
   writer_.reset();
 }
 
+Connection& Store::UsableWriter() {
+  writer_->EndStuckTransaction();
+  if (!sqlite3_get_autocommit(writer_->handle())) {
+    writer_ = std::make_unique<Connection>(options_.path, options_.connection);  // throws: the old one is kept
+  }
+  return *writer_;
+}
+
 std::string Store::IntegrityCheck() {
   std::lock_guard<std::mutex> lock(write_mutex_);
   Statement s(*writer_, "PRAGMA integrity_check");

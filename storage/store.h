@@ -34,16 +34,18 @@ class Store {
     return fn(*lease.connection);
   }
 
-  // Runs `fn` inside a write transaction on the writer connection and commits; an exception rolls back.
+  // Runs `fn` inside a write transaction on the writer connection and commits; an exception rolls back (nothing of
+  // `fn` stays written). A writer connection left inside a transaction by a failure is replaced before the next write.
   template <typename F>
   auto Write(F&& fn) {
     std::lock_guard<std::mutex> lock(write_mutex_);
-    Transaction tx(*writer_);
-    if constexpr (std::is_void_v<decltype(fn(*writer_))>) {
-      fn(*writer_);
+    Connection& writer = UsableWriter();
+    Transaction tx(writer);
+    if constexpr (std::is_void_v<decltype(fn(writer))>) {
+      fn(writer);
       tx.Commit();
     } else {
-      auto result = fn(*writer_);
+      auto result = fn(writer);
       tx.Commit();
       return result;
     }
@@ -64,6 +66,9 @@ class Store {
    private:
     Store& store_;
   };
+
+  // The writer, after ending a stuck transaction; reopened when it cannot be ended. Called under write_mutex_.
+  Connection& UsableWriter();
 
   StoreOptions options_;
   std::unique_ptr<Connection> writer_;

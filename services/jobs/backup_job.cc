@@ -9,6 +9,7 @@
 #include "schema/error.h"
 #include "schema/json_io.h"
 #include "storage/backup.h"
+#include "storage/sqlite.h"
 
 namespace anchordb::services {
 namespace {
@@ -36,11 +37,28 @@ JobKind BackupJobKind(const std::string& db_path, const JobSettings& settings) {
       throw Error(ErrorCode::kInvalidArgument, "a backup goes into the server's backup_dir", "file");
     }
   };
-  kind.run = [db_path, timeout_ms = settings.busy_timeout_ms](JobContext& job) -> std::optional<std::string> {
-    const storage::BackupReport report = storage::Backup(db_path, FileOf(job.request()), timeout_ms, [&](double fraction) {
+  kind.run = [db_path, timeout_ms = settings.busy_timeout_ms, synchronous = settings.synchronous](JobContext& job) -> std::optional<std::string> {
+    const std::string file = FileOf(job.request());
+    const storage::BackupReport report = storage::Backup(db_path, file, timeout_ms, [&](double fraction) {
       job.Progress(0.95 * fraction);  // the integrity check and the sync come after the copy
     });
-    return report.ToJson().dump();
+    // The job is recorded succeeded before it ends; when that write fails the copy is removed, so a failed backup
+    // job never leaves a file (and its retry can take the same name).
+    const std::string result = report.ToJson().dump();
+    try {
+      storage::ConnectionOptions options;
+      options.busy_timeout_ms = timeout_ms;
+      options.synchronous = synchronous;
+      storage::Connection c(db_path, options);
+      storage::Transaction tx(c);
+      job.Record(c, JobStatus::kSucceeded, "done", 1.0, &result);
+      tx.Commit();
+    } catch (...) {
+      std::error_code ec;
+      std::filesystem::remove(file, ec);
+      throw;
+    }
+    return std::nullopt;  // recorded
   };
   return kind;
 }

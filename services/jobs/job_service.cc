@@ -148,6 +148,11 @@ JobView JobService::Get(std::int64_t id) {
   JobView v{r->id, r->kind, r->map_id, StatusOf(r->status), r->stage, r->progress, r->request_json, r->result_json,
             r->error, r->created_ns, r->updated_ns};
   std::lock_guard<std::mutex> lock(mutex_);
+  if (const auto f = unrecorded_failures_.find(id); f != unrecorded_failures_.end() && v.status != JobStatus::kSucceeded) {
+    v.status = JobStatus::kFailed;
+    v.error = f->second;
+    return v;
+  }
   if (live_id_ == id && v.status == JobStatus::kRunning) {
     v.stage = live_stage_;
     v.progress = live_progress_;
@@ -186,9 +191,19 @@ void JobService::Worker() {
       wake_.wait(lock, [&] { return stop_ || pending_ > 0; });
       if (stop_) return;
     }
+    RecordFailures();
+    std::map<std::int64_t, std::string> failed;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      failed = unrecorded_failures_;
+    }
     std::int64_t id = 0;
     try {
-      id = store_.Read([](storage::Connection& c) { return storage::NextQueuedJob(c).value_or(0); });
+      id = store_.Read([&](storage::Connection& c) {
+        auto next = storage::NextQueuedJob(c);
+        while (next && failed.count(*next)) next = storage::NextQueuedJob(c, *next);  // failed, not yet recorded
+        return next.value_or(0);
+      });
     } catch (const std::exception&) {
       id = 0;
     }
@@ -255,7 +270,32 @@ void JobService::Fail(std::int64_t id, const JobKind* kind, const std::string& w
       SetStatus(c, id, JobStatus::kFailed, stage, 1.0, nullptr, &message);
     });
   } catch (const std::exception&) {
-    // The job row cannot be updated (the database is gone or read-only): start-up marks it interrupted.
+    // The job row cannot be updated now (the disk fails or is full): served as failed and written later; if the
+    // server stops first, start-up marks it interrupted.
+    std::lock_guard<std::mutex> lock(mutex_);
+    unrecorded_failures_[id] = message;
+  }
+}
+
+void JobService::RecordFailures() {
+  std::map<std::int64_t, std::string> failed;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    failed = unrecorded_failures_;
+  }
+  for (const auto& [id, message] : failed) {
+    try {
+      store_.Write([&](storage::Connection& c) {
+        const auto r = storage::FindJob(c, id);
+        if (r && (r->status == "queued" || r->status == "running")) {
+          SetStatus(c, id, JobStatus::kFailed, r->stage, 1.0, nullptr, &message);
+        }
+      });
+    } catch (const std::exception&) {
+      continue;  // still refused: kept for the next wake
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    unrecorded_failures_.erase(id);
   }
 }
 

@@ -16,6 +16,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <memory>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -73,6 +74,8 @@ class JobService {
   void Worker();
   void RunJob(std::int64_t id);
   void Fail(std::int64_t id, const JobKind* kind, const std::string& what);
+  // Writes the failures Fail could not write (the database refused writes then); keeps those that fail again.
+  void RecordFailures();
   void SetStatus(storage::Connection& c, std::int64_t id, JobStatus status, const std::string& stage, double progress,
                  const std::string* result_json, const std::string* error) const;
 
@@ -93,6 +96,9 @@ class JobService {
   std::string live_stage_;
   double live_progress_ = 0.0;
   storage::Connection* live_connection_ = nullptr;  // for sqlite3_interrupt on stop or cancel
+  // Jobs that failed while the database refused to record it (id -> error): served as failed, never run again,
+  // written when the worker next wakes (start-up marks them failed if the server stops first).
+  std::map<std::int64_t, std::string> unrecorded_failures_;
   std::thread worker_;
 };
 

@@ -210,7 +210,14 @@ StoredKeyframe SceneService::KeyframeStored(Model& m, std::int64_t keyframe_id, 
   out.kind = kind;
   out.action_layer = m.next_action_layer;
   ++m.next_action_layer;
-  out.analysis = Analyse(m, out, stamp_ns, background_mm);
+  try {
+    out.analysis = Analyse(m, out, stamp_ns, background_mm);
+  } catch (const Error& e) {
+    // The keyframe is committed; its analysis could not be read or written now (the disk fails or is full, memory
+    // ran out). The answer goes without an analysis rather than an error that would make the client send again
+    // what is stored already.
+    if (e.code() != ErrorCode::kUnavailable && e.code() != ErrorCode::kInsufficientStorage) throw;
+  }
   return out;
 }
 
