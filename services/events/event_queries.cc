@@ -52,7 +52,8 @@ EventView EventService::GetEvent(const std::string& map, std::int64_t id) {
 LabelResult EventService::LabelInstance(const std::string& map, std::int64_t id, const LabelRequest& request) {
   const std::string label = engine::NormaliseLabel(request.label, settings_.max_label_length, "label");
   const bool from_operator = request.source == LabelSource::kOperator;
-  std::lock_guard<std::mutex> lock(MapMutex(map));
+  // No analysis mutex: the edit is one write transaction, and an analysis running meanwhile re-reads the instances in
+  // its write and starts again when they changed, so a label never waits for a keyframe's analysis (seconds).
   return store_.Write([&](storage::Connection& c) {
     storage::InstanceRecord r = RequireInstance(c, map, id);
     if (r.status == "deleted") throw Error(ErrorCode::kConflict, "instance " + std::to_string(id) + " was deleted by an operator", "instance");
@@ -147,8 +148,7 @@ InstanceView EventService::PinInstance(const std::string& map, std::int64_t id, 
   });
 }
 
-InstanceView EventService::DeleteInstance(const std::string& map, std::int64_t id) {
-  std::lock_guard<std::mutex> lock(MapMutex(map));
+InstanceView EventService::DeleteInstance(const std::string& map, std::int64_t id) {  // no analysis mutex (see above)
   return store_.Write([&](storage::Connection& c) {
     auto r = RequireInstance(c, map, id);
     r.status = "deleted";

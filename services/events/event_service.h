@@ -84,7 +84,8 @@ class EventService : public KeyframeListener {
   EventSettings settings_;
   const Clock& clock_;
   std::function<void(const std::string&)> analysis_hook_;
-  // Analyses of one map run one at a time (instances are shared state); maps hash onto a fixed set of mutexes, so
+  // Analyses of one map run one at a time (instances are shared state; edits such as labels do not take it: the
+  // analysis re-checks the instances in its write); maps hash onto a fixed set of mutexes, so
   // analyses of different maps run concurrently (unless two maps share a stripe) and no request can grow the set.
   static constexpr std::size_t kMapStripes = 64;
   std::array<std::mutex, kMapStripes> map_mutexes_;
