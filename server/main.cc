@@ -119,10 +119,10 @@ int Serve(const Config& config) {
 
   api::HttpOptions options;
   options.auth_required = auth_required;
-  options.authenticate = [&store](const std::string& token) -> std::optional<api::Role> {
-    const auto record = store.Read([&](storage::Connection& c) { return storage::FindTokenByHash(c, Sha256Hex(token)); });
-    if (!record) return std::nullopt;
-    return api::RoleFromName(record->role);
+  options.authenticate = [&store](const std::string& token) -> std::optional<api::Caller> {
+    const auto found = Authenticate(store, token);
+    if (!found) return std::nullopt;
+    return api::Caller{found->id, api::RoleFromName(found->role)};
   };
   if (config.server.log_requests) options.log = Log;
   options.settings = [config] { return SettingsJson(config); };
