@@ -129,7 +129,7 @@ class AuditTest(unittest.TestCase):
         self.assertEqual((f["status"], f["after"]["job"], f["actor"]["role"]), (202, job["job"], "admin"))
         backup = self.admin.request("POST", "/v1/backups", {"label": "audit"})
         wait_job(self.admin, backup["job"])
-        b = [e for e in self.audit(action="backup.create")["entries"] if e["after"]["job"] == backup["job"]]
+        b = [e for e in self.audit(action="backup.create")["entries"] if e["after"].get("job") == backup["job"]]
         self.assertEqual(len(b), 1)
         self.assertEqual((b[0]["map"], b[0]["status"]), (None, 202))
         # Forgetting by policy (not a dry run) keeps the audit entries.
@@ -137,6 +137,17 @@ class AuditTest(unittest.TestCase):
         job = self.admin.forget(self.map, policy={"keyframe_max_age_s": 0, "event_max_age_s": 0})
         self.assertEqual(wait_job(self.admin, job["job"])["status"], "succeeded")
         self.assertGreater(len(self.audit(map=self.map)["entries"]), count)
+
+    def test_command_line_forget_and_backup_are_audited(self):
+        out = harness.run_cli(["forget", "--db", self.server.db_path, "--map", self.map, "--dry-run"])
+        self.assertEqual(out.returncode, 0, out.stderr)
+        [f] = self.audit(map=self.map, action="map.forget", actor="cli")["entries"]
+        self.assertEqual((f["actor"], f["status"], f["request_id"]), ({"token": "cli", "role": None}, 0, None))
+        self.assertIn("dry_run", f["after"])
+        count = len(self.audit(action="backup.create", actor="cli")["entries"])
+        out = harness.run_cli(["backup", "--db", self.server.db_path, "--label", self.map[:20]])
+        self.assertEqual(out.returncode, 0, out.stderr)
+        self.assertEqual(len(self.audit(action="backup.create", actor="cli")["entries"]), count + 1)
 
     def test_map_deletion_keeps_its_entries(self):
         self.admin.delete_map(self.map)
