@@ -61,24 +61,26 @@ class AuditTrail {
       if (ctx.param_names[i] == "map") entry.map = ctx.param_values[i];
       else entry.resource += (entry.resource.empty() ? "" : ",") + ctx.param_names[i] + "=" + ctx.param_values[i];
     }
-    if (action && action->snapshot_pattern) entry.before_json = Snapshot(action->snapshot_pattern, ctx);
+    const bool snapshots = action && action->snapshot_pattern;
+    if (snapshots) entry.before_json = Snapshot(action->snapshot_pattern, ctx);
+    services::AuditService::InFlight in_flight = audit_.Begin(std::move(entry));
+    const auto finish = [&](int status, std::optional<std::string> after) {
+      services::AuditService::Disarm();
+      if (snapshots) after = Snapshot(action->snapshot_pattern, ctx);
+      audit_.Finish(in_flight, status, std::move(after));
+    };
     Response out;
     try {
       out = call();
     } catch (const Error& e) {
-      entry.status = HttpStatusFor(e.code());
-      if (action && action->snapshot_pattern) entry.after_json = Snapshot(action->snapshot_pattern, ctx);
-      audit_.Record(std::move(entry));
+      finish(HttpStatusFor(e.code()), std::nullopt);
       throw;
     } catch (...) {
-      entry.status = 500;
-      audit_.Record(std::move(entry));
+      finish(500, std::nullopt);
       throw;
     }
-    entry.status = out.status;
-    if (action && action->snapshot_pattern) entry.after_json = Snapshot(action->snapshot_pattern, ctx);
-    if (action && action->response_is_after && out.content_type == "application/json") entry.after_json = out.body;
-    audit_.Record(std::move(entry));
+    const bool body_is_after = action && action->response_is_after && out.content_type == "application/json";
+    finish(out.status, body_is_after ? std::optional<std::string>(out.body) : std::nullopt);
     return out;
   }
 

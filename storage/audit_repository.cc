@@ -20,6 +20,14 @@ std::int64_t InsertAuditRecord(Connection& c, const AuditRecord& r) {
   return sqlite3_last_insert_rowid(c.handle());
 }
 
+bool UpdateAuditOutcome(Connection& c, std::int64_t id, int status, const std::optional<std::string>& after_json) {
+  Statement s(c, "UPDATE audit_log SET status = ?, after_json = ? WHERE id = ?");
+  s.Bind(1, static_cast<std::int64_t>(status));
+  BindOptionalText(s, 2, after_json);
+  s.Bind(3, id).Run();
+  return sqlite3_changes(c.handle()) > 0;
+}
+
 std::vector<AuditRecord> ListAuditRecords(Connection& c, const AuditFilter& f) {
   Statement s(c,
               "SELECT id, time_ns, actor, role, action, map_id, resource, request_id, status, before_json, after_json "

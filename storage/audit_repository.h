@@ -38,5 +38,7 @@ struct AuditFilter {
 // Inserts `record` (its id is ignored) and returns the new id.
 std::int64_t InsertAuditRecord(Connection& c, const AuditRecord& record);
 std::vector<AuditRecord> ListAuditRecords(Connection& c, const AuditFilter& filter);
+// Sets the outcome of entry `id`; false when there is no such entry.
+bool UpdateAuditOutcome(Connection& c, std::int64_t id, int status, const std::optional<std::string>& after_json);
 
 }  // namespace anchordb::storage
