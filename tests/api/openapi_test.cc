@@ -13,14 +13,22 @@
 namespace anchordb::api {
 namespace {
 
-TEST(OpenApiTest, DocumentMatchesRouteTable) {
+// The route table of every capability, on a fresh database.
+class OpenApiTest : public ::testing::Test {
+ protected:
+  OpenApiTest() { RegisterAllRoutes(api.router(), capabilities); }
+  static storage::StoreOptions Options(const testing::TempDir& dir) {
+    storage::StoreOptions so;
+    so.path = dir.File("db.sqlite");
+    return so;
+  }
   testing::TempDir dir;
-  storage::StoreOptions so;
-  so.path = dir.File("db.sqlite");
-  storage::Store store(so);
-  services::Capabilities capabilities(store, {});
-  HttpApi api({});
-  RegisterAllRoutes(api.router(), capabilities);
+  storage::Store store{Options(dir)};
+  services::Capabilities capabilities{store, {}};
+  HttpApi api{{}};
+};
+
+TEST_F(OpenApiTest, DocumentMatchesRouteTable) {
   const Json doc = Json::parse(HttpApi::OpenApiDocument());
   ASSERT_TRUE(doc.contains("paths"));
   std::set<std::string> registered, documented;
@@ -81,7 +89,7 @@ void ExpectBounded(const Json& doc, const Json& schema_in, const std::string& wh
   }
 }
 
-TEST(OpenApiTest, EveryRequestStringAndArrayHasItsLimit) {
+TEST_F(OpenApiTest, EveryRequestStringAndArrayHasItsLimit) {
   const Json doc = Json::parse(HttpApi::OpenApiDocument());
   for (const auto& [path, ops] : doc["paths"].items()) {
     for (const auto& [method, op] : ops.items()) {
@@ -102,7 +110,7 @@ TEST(OpenApiTest, EveryRequestStringAndArrayHasItsLimit) {
   }
 }
 
-TEST(OpenApiTest, DocumentedLimitsAreTheEnforcedOnes) {
+TEST_F(OpenApiTest, DocumentedLimitsAreTheEnforcedOnes) {
   const Json doc = Json::parse(HttpApi::OpenApiDocument());
   const Json& s = doc["components"]["schemas"];
   EXPECT_EQ(s["LabelRequest"]["properties"]["label"]["maxLength"], limits::kLabelLength);
@@ -124,14 +132,7 @@ TEST(OpenApiTest, DocumentedLimitsAreTheEnforcedOnes) {
 }
 
 // Every audited action names a registered route, and its snapshot a registered GET route.
-TEST(OpenApiTest, AuditedActionsNameRegisteredRoutes) {
-  testing::TempDir dir;
-  storage::StoreOptions so;
-  so.path = dir.File("db.sqlite");
-  storage::Store store(so);
-  services::Capabilities capabilities(store, {});
-  HttpApi api({});
-  RegisterAllRoutes(api.router(), capabilities);
+TEST_F(OpenApiTest, AuditedActionsNameRegisteredRoutes) {
   std::set<std::string> routes;
   for (const Route& r : api.routes()) routes.insert(r.method + " " + r.pattern);
   for (const AuditedAction& a : AuditedActions()) {

@@ -28,23 +28,15 @@ class AuditTest(unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
-        cls.server = harness.Server(None, start=False)
-        try:
-            cls.secrets = {role: harness.create_token(cls.server.db_path, role) for role in ("reader", "writer", "admin")}
-            con = sqlite3.connect(cls.server.db_path)
+        def add_legacy_token(db_path):
+            con = sqlite3.connect(db_path)
             with con:
                 con.execute("INSERT INTO tokens (id, sha256_hex, role, created_ns) VALUES (?, ?, ?, ?)",
                             ("tok_legacy", hashlib.sha256(cls.LEGACY_SECRET.encode()).hexdigest(), "admin", 1))
             con.close()
-            cls.server.extra_args = ["--auth=required"]
-            cls.server.start()
-        except Exception:
-            cls.server.close()
-            raise
+        cls.server, cls.secrets = harness.server_with_tokens(before_start=add_legacy_token)
         cls.ids = {role: "tok_" + secret[4:12] for role, secret in cls.secrets.items()}
-        cls.reader = cls.server.make_client(cls.secrets["reader"])
-        cls.writer = cls.server.make_client(cls.secrets["writer"])
-        cls.admin = cls.server.make_client(cls.secrets["admin"])
+        cls.reader, cls.writer, cls.admin = (cls.server.make_client(cls.secrets[r]) for r in ("reader", "writer", "admin"))
 
     @classmethod
     def tearDownClass(cls):
