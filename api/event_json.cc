@@ -1,5 +1,6 @@
 // JSON of the event service's requests and results (see event_json.h).
 #include "api/event_json.h"
+#include "api/request_limits.h"
 
 #include <cmath>
 
@@ -82,12 +83,12 @@ InstanceQuery ParseInstanceQuery(const httplib::Request& req) {
   q.status = QueryChoice(req, "status", {"present", "absent", "deleted"});
   q.after_id = QueryInteger(req, "after", 0, 0, INT64_MAX);
   q.limit = static_cast<int>(QueryInteger(req, "limit", 100, 1, 1000));
-  q.label = QueryString(req, "label", 256);
+  q.label = QueryString(req, "label", limits::kLabelLength);
   return q;
 }
 
 WhereRequest ParseWhereRequest(const httplib::Request& req) {
-  const auto label = QueryString(req, "label", 256);
+  const auto label = QueryString(req, "label", limits::kLabelLength);
   if (!label) throw Error(ErrorCode::kInvalidArgument, "label is required", "label");
   return {*label, QueryTime(req, "at")};
 }
@@ -95,8 +96,8 @@ WhereRequest ParseWhereRequest(const httplib::Request& req) {
 LabelRequest ParseLabelRequest(const Json& body) {
   json::RejectUnknownKeys(body, {"label", "source"});
   LabelRequest r;
-  r.label = json::RequireString(body, "label", 4096);
-  const std::string source = json::OptionalString(body, "source", 16).value_or("dialog");
+  r.label = json::RequireString(body, "label", limits::kLabelLength);
+  const std::string source = json::OptionalString(body, "source", limits::kWordLength).value_or("dialog");
   if (source != "dialog" && source != "operator") throw Error(ErrorCode::kInvalidArgument, "source must be dialog or operator", "source");
   r.source = source == "operator" ? LabelSource::kOperator : LabelSource::kDialog;
   return r;
@@ -105,10 +106,10 @@ LabelRequest ParseLabelRequest(const Json& body) {
 CreateInstanceRequest ParseCreateInstanceRequest(const Json& body) {
   json::RejectUnknownKeys(body, {"kind", "label", "position", "extent", "yaw_rad", "stamp"});
   CreateInstanceRequest r;
-  const std::string kind = json::OptionalString(body, "kind", 16).value_or("furniture");
+  const std::string kind = json::OptionalString(body, "kind", limits::kWordLength).value_or("furniture");
   if (kind != "furniture" && kind != "object") throw Error(ErrorCode::kInvalidArgument, "kind must be furniture or object", "kind");
   r.kind = kind == "object" ? InstanceKind::kObject : InstanceKind::kFurniture;
-  r.label = json::RequireString(body, "label", 4096);
+  r.label = json::RequireString(body, "label", limits::kLabelLength);
   r.position_m = *Vector3At(body, "position", true);
   r.extent_m = Vector3At(body, "extent", false).value_or(Eigen::Vector3d::Zero());
   r.yaw_rad = json::FiniteNumberOr(body, "yaw_rad", 0.0);

@@ -1,4 +1,5 @@
 #include "api/furniture_json.h"
+#include "api/request_limits.h"
 
 #include "schema/error.h"
 
@@ -45,7 +46,7 @@ GraphParamsRequest ParseParams(const Json& j) {
   if (Given(j, "edge_max_gap_m")) p.edge_max_gap_m = json::FiniteNumberOr(j, "edge_max_gap_m", 0.0, "params");
   if (Given(j, "relation_sharpness")) p.relation_sharpness = json::FiniteNumberOr(j, "relation_sharpness", 0.0, "params");
   if (Given(j, "adaptation")) p.adaptation = json::BoolOr(j, "adaptation", true, "params");
-  if (const auto prior = json::OptionalString(j, "frame_prior", 16, "params")) {
+  if (const auto prior = json::OptionalString(j, "frame_prior", limits::kWordLength, "params")) {
     if (*prior == "statistical") p.frame_prior = FramePrior::kStatistical;
     else if (*prior == "uniform") p.frame_prior = FramePrior::kUniform;
     else BadArgument("frame_prior must be statistical or uniform", "params.frame_prior");
@@ -58,8 +59,12 @@ std::vector<CategoryWeight> ParseCategories(const Json& j, const std::string& fi
   if (!j.is_object() || j.empty()) {
     BadArgument(field + " must be an object of category probabilities, e.g. {\"sofa\": 0.7, \"armchair\": 0.3}", field);
   }
+  limits::CheckItems(j, limits::kCategoriesPerPiece, field);
   std::vector<CategoryWeight> out;
-  for (const auto& [word, value] : j.items()) out.push_back({word, json::AsFiniteNumber(value, field + "." + word)});
+  for (const auto& [word, value] : j.items()) {
+    limits::CheckLength(word, limits::kCategoryWordLength, field);
+    out.push_back({word, json::AsFiniteNumber(value, field + "." + word)});
+  }
   return out;
 }
 
@@ -172,17 +177,17 @@ DescriptionRequest ParseDescription(const Json& body, std::size_t max_text_lengt
     out.text = json::RequireString(body, "text", max_text_length);
     return out;
   }
-  out.located = json::RequireString(body, "located", 64);
-  out.relation = json::RequireString(body, "relation", 64);
-  out.reference = json::RequireString(body, "reference", 64);
+  out.located = json::RequireString(body, "located", limits::kDescriptionWordLength);
+  out.relation = json::RequireString(body, "relation", limits::kDescriptionWordLength);
+  out.reference = json::RequireString(body, "reference", limits::kDescriptionWordLength);
   return out;
 }
 
 ProduceRequest ParseProduce(const Json& body) {
   json::RejectUnknownKeys(body, {"located", "reference"});
   ProduceRequest out;
-  out.located = json::RequireString(body, "located", 64);
-  out.reference = json::RequireString(body, "reference", 64);
+  out.located = json::RequireString(body, "located", limits::kDescriptionWordLength);
+  out.reference = json::RequireString(body, "reference", limits::kDescriptionWordLength);
   return out;
 }
 

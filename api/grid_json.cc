@@ -1,4 +1,5 @@
 #include "api/grid_json.h"
+#include "api/request_limits.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -39,6 +40,7 @@ LayerSpec ParseLabelSpec(const Json& body, const std::string&) {
         throw Error(ErrorCode::kInvalidArgument, "labels: keys are ids 1-65535, values names", "labels." + id);
       }
       spec.labels[n] = name.get<std::string>();
+      limits::CheckLength(spec.labels[n], limits::kLabelLength, "labels." + id);
     }
   }
   return spec;
@@ -59,7 +61,7 @@ FuseOperand ParseOperand(const Json& operand, const std::string& path, const std
 
 LayerSpec ParseFusedSpec(const Json& body, const std::string& layer) {
   json::RejectUnknownKeys(body, {"kind", "op", "operands"});
-  const std::string op = json::RequireString(body, "op", 16);
+  const std::string op = json::RequireString(body, "op", limits::kWordLength);
   FusedLayerSpec spec;
   bool known = false;
   for (FuseOp candidate : {FuseOp::kAnd, FuseOp::kOr, FuseOp::kAndNot, FuseOp::kXor}) {
@@ -67,7 +69,7 @@ LayerSpec ParseFusedSpec(const Json& body, const std::string& layer) {
   }
   if (!known) throw Error(ErrorCode::kInvalidArgument, "op must be and, or, and_not or xor", "op");
   const Json& operands = json::Require(body, "operands");
-  if (!operands.is_array() || operands.size() < 2 || operands.size() > 16) {
+  if (!operands.is_array() || operands.size() < 2 || operands.size() > limits::kFusedOperands) {
     throw Error(ErrorCode::kInvalidArgument, "operands must be an array of 2-16 {\"layer\",\"threshold\"}", "operands");
   }
   for (std::size_t i = 0; i < operands.size(); ++i) {
@@ -125,12 +127,12 @@ CreateMapRequest ParseCreateMap(const Json& body) {
   json::RejectUnknownKeys(body, {"id", "name"});
   CreateMapRequest request;
   request.id = json::RequireId(body, "id");
-  request.name = json::OptionalString(body, "name", 256).value_or(request.id);
+  request.name = json::OptionalString(body, "name", limits::kNameLength).value_or(request.id);
   return request;
 }
 
 LayerSpec ParseLayerSpec(const Json& body, const std::string& layer) {
-  const std::string kind = json::RequireString(body, "kind", 32);
+  const std::string kind = json::RequireString(body, "kind", limits::kWordLength);
   std::string names;
   for (const SpecParser& p : kSpecParsers) {
     if (kind == LayerKindName(p.kind)) return p.parse(body, layer);
@@ -169,7 +171,7 @@ engine::Observation ParseObservation(const Json& body, const ServiceLimits& limi
 PaintLabelRequest ParsePaintLabel(const Json& body, const ServiceLimits& limits) {
   json::RejectUnknownKeys(body, {"label", "polygons"});
   PaintLabelRequest request;
-  request.label = json::RequireString(body, "label", 128);
+  request.label = json::RequireString(body, "label", limits::kLabelLength);
   if (request.label.empty()) throw Error(ErrorCode::kInvalidArgument, "label must not be empty", "label");
   request.polygons_M =
       json::AsPolygons(json::Require(body, "polygons"), "polygons", limits.max_polygons, limits.max_polygon_vertices);

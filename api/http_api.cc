@@ -7,6 +7,7 @@
 #include <regex>
 #include <string_view>
 
+#include "api/request_limits.h"
 #include "schema/error.h"
 
 namespace anchordb::api {
@@ -180,6 +181,7 @@ void HttpApi::Dispatch(const Route& route, const std::vector<std::string>& names
     std::atomic<int>* counter = nullptr;
     ~WriteSlot() { if (counter) --*counter; }
   } slot;
+  Caller caller;
   try {
     // cpp-httplib checks its payload limit against Content-Length only; a chunked body is checked here.
     if (req.body.size() > options_.max_body_bytes) {
@@ -190,16 +192,22 @@ void HttpApi::Dispatch(const Route& route, const std::vector<std::string>& names
       if (header.rfind("Bearer ", 0) != 0 || header.size() <= 7) {
         throw Error(ErrorCode::kUnauthenticated, "this server requires a Bearer token (Authorization: Bearer <token>)");
       }
-      const auto role = options_.authenticate ? options_.authenticate(header.substr(7)) : std::nullopt;
-      if (!role) throw Error(ErrorCode::kUnauthenticated, "the Bearer token is not known to this server");
-      if (static_cast<int>(*role) < static_cast<int>(route.role)) {
+      const auto found = options_.authenticate ? options_.authenticate(header.substr(7)) : std::nullopt;
+      if (!found || !found->role) throw Error(ErrorCode::kUnauthenticated, "the Bearer token is not known to this server");
+      if (static_cast<int>(*found->role) < static_cast<int>(route.role)) {
         throw Error(ErrorCode::kForbidden, std::string("this route needs the ") + RoleName(route.role) +
-                                               " role; the token has " + RoleName(*role));
+                                               " role; the token has " + RoleName(*found->role));
       }
+      caller = *found;
     }
     // Query values reach answers (echoed labels, error messages) and the database as text: they must be UTF-8, as
     // JSON bodies must be (the JSON parser checks those).
+    if (req.params.size() > limits::kQueryParameters) {
+      throw Error(ErrorCode::kPayloadTooLarge, "more than " + std::to_string(limits::kQueryParameters) + " query parameters", "");
+    }
     for (const auto& [key, value] : req.params) {
+      limits::CheckLength(key, limits::kQueryValueLength, "query");
+      limits::CheckLength(value, limits::kQueryValueLength, key);
       if (!IsUtf8(key)) throw Error(ErrorCode::kInvalidArgument, "a query parameter name is not valid UTF-8");
       if (!IsUtf8(value)) throw Error(ErrorCode::kInvalidArgument, "query parameter is not valid UTF-8", key);
     }
@@ -217,7 +225,9 @@ void HttpApi::Dispatch(const Route& route, const std::vector<std::string>& names
       values.push_back(req.matches[i].str());
       json::CheckId(values.back(), names[i - 1]);  // the route regex admits the characters; this checks the rest
     }
-    Response out = route.handler(req, PathParams(names, std::move(values)));
+    const auto call = [&] { return route.handler(req, PathParams(names, values)); };
+    Response out = router_.observer() ? router_.observer()(route, caller, RequestContext{req, request_id, names, values}, call)
+                                      : call();
     res.status = out.status;
     for (const auto& [k, v] : out.headers) res.set_header(k, v);
     res.set_content(std::move(out.body), out.content_type);

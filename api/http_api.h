@@ -20,8 +20,8 @@ using json::Json;
 
 struct HttpOptions {
   bool auth_required = false;
-  // Returns the role of a presented token, or nullopt if the token is unknown.
-  std::function<std::optional<Role>(const std::string& token)> authenticate;
+  // Returns the id and role of a presented token, or nullopt if the token is unknown.
+  std::function<std::optional<Caller>(const std::string& token)> authenticate;
   // Receives one line per request (and per error) for the log.
   std::function<void(const std::string& line)> log;
   // The settings document served by GET /v1/settings.

@@ -1,4 +1,5 @@
 #include "api/job_json.h"
+#include "api/request_limits.h"
 
 #include "schema/error.h"
 
@@ -42,7 +43,7 @@ services::ForgetRequest ParseForgetRequest(const Json& body) {
 
 services::BackupRequest ParseBackupRequest(const Json& body) {
   json::RejectUnknownKeys(body, {"label"});
-  return {json::OptionalString(body, "label", 64).value_or("")};
+  return {json::OptionalString(body, "label", limits::kBackupLabelLength).value_or("")};
 }
 
 Json ToJson(const services::JobTicket& t) {

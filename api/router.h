@@ -51,13 +51,35 @@ struct Route {
   bool write = false;
 };
 
+// Who made a request: the token's id and role, or "loopback" without a role when the server runs without auth.
+struct Caller {
+  std::string token_id = "loopback";
+  std::optional<Role> role;
+};
+
+// What an observer sees of a request besides its route: the request, its id (X-Request-Id) and the path values.
+struct RequestContext {
+  const httplib::Request& request;
+  const std::string& request_id;
+  const std::vector<std::string>& param_names;
+  const std::vector<std::string>& param_values;
+};
+
+// Runs around every handler once the caller is authorised (the audit trail, api/audit_routes.h): `call` runs the
+// handler; the observer returns its response and lets its errors through.
+using RequestObserver =
+    std::function<Response(const Route&, const Caller&, const RequestContext&, const std::function<Response()>& call)>;
+
 class Router {
  public:
   void Add(std::string method, std::string pattern, Role role, std::string summary, Handler handler);
   const std::vector<Route>& routes() const { return routes_; }
+  void SetObserver(RequestObserver observer) { observer_ = std::move(observer); }
+  const RequestObserver& observer() const { return observer_; }
 
  private:
   std::vector<Route> routes_;
+  RequestObserver observer_;
 };
 
 }  // namespace anchordb::api

@@ -1,5 +1,6 @@
 #include "api/routes.h"
 
+#include "api/audit_routes.h"
 #include "api/event_routes.h"
 #include "api/furniture_routes.h"
 #include "api/grid_routes.h"
@@ -14,6 +15,7 @@ void RegisterAllRoutes(Router& router, services::Capabilities& c) {
   RegisterFurnitureRoutes(router, c.furniture);
   RegisterEventRoutes(router, c.events);
   RegisterJobRoutes(router, c.jobs);
+  RegisterAuditRoutes(router, c.audit);  // last: it observes the routes above
 }
 
 }  // namespace anchordb::api

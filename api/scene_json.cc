@@ -1,4 +1,5 @@
 #include "api/scene_json.h"
+#include "api/request_limits.h"
 
 #include <climits>
 #include <cmath>
@@ -42,10 +43,10 @@ void ParseParams(const Json& p, OpenSceneRequest& r) {
   if (!p.is_object()) throw Error(ErrorCode::kInvalidArgument, "params must be an object", "params");
   json::RejectUnknownKeys(p, {"beta", "dynamic_mode", "depth_scale", "merge_strategy"}, "params");
   r.params.model.beta = json::FiniteNumberOr(p, "beta", r.params.model.beta, "params");
-  r.params.model.dynamic_mode = ParseChoice(kDynamicModeNames, json::OptionalString(p, "dynamic_mode", 16, "params").value_or("exclude"),
+  r.params.model.dynamic_mode = ParseChoice(kDynamicModeNames, json::OptionalString(p, "dynamic_mode", limits::kWordLength, "params").value_or("exclude"),
                                             "dynamic_mode must be exclude or subtract", "params.dynamic_mode");
   r.params.depth_scale = json::FiniteNumberOr(p, "depth_scale", r.params.depth_scale, "params");
-  r.merge_strategy = ParseChoice(kMergeStrategyNames, json::OptionalString(p, "merge_strategy", 32, "params").value_or("algorithm2"),
+  r.merge_strategy = ParseChoice(kMergeStrategyNames, json::OptionalString(p, "merge_strategy", limits::kWordLength, "params").value_or("algorithm2"),
                                  "merge_strategy must be algorithm2, naive or naive_without_icp", "params.merge_strategy");
 }
 

@@ -4,6 +4,7 @@
 // hand their keyframes to the events service; where-is places things relative to furniture).
 #include "schema/clock.h"
 #include "schema/settings.h"
+#include "services/audit/audit_service.h"
 #include "services/events/event_service.h"
 #include "services/furniture/furniture_service.h"
 #include "services/grid/grid_service.h"
@@ -38,6 +39,7 @@ class Capabilities {
   FurnitureService furniture;
   EventService events;
   JobService jobs;
+  AuditService audit;
 };
 
 }  // namespace anchordb::services

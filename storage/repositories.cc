@@ -180,11 +180,18 @@ void InsertToken(Connection& c, const TokenRecord& t) {
       .Bind(1, t.id).Bind(2, t.sha256_hex).Bind(3, t.role).Bind(4, t.created_ns).Run();
 }
 
-std::optional<TokenRecord> FindTokenByHash(Connection& c, const std::string& sha256_hex) {
-  Statement s(c, "SELECT id, sha256_hex, role, created_ns FROM tokens WHERE sha256_hex = ?");
-  s.Bind(1, sha256_hex);
+std::optional<TokenRecord> FindTokenById(Connection& c, const std::string& id) {
+  Statement s(c, "SELECT id, sha256_hex, role, created_ns FROM tokens WHERE id = ?");
+  s.Bind(1, id);
   if (!s.Step()) return std::nullopt;
   return TokenRecord{s.Text(0), s.Text(1), s.Text(2), s.Int(3)};
+}
+
+std::vector<TokenRecord> ListTokens(Connection& c) {
+  Statement s(c, "SELECT id, sha256_hex, role, created_ns FROM tokens ORDER BY id");
+  std::vector<TokenRecord> out;
+  while (s.Step()) out.push_back({s.Text(0), s.Text(1), s.Text(2), s.Int(3)});
+  return out;
 }
 
 std::int64_t CountTokens(Connection& c) {

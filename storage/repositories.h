@@ -61,7 +61,9 @@ struct TokenRecord {
   std::int64_t created_ns = 0;
 };
 void InsertToken(Connection& c, const TokenRecord& token);
-std::optional<TokenRecord> FindTokenByHash(Connection& c, const std::string& sha256_hex);
+std::optional<TokenRecord> FindTokenById(Connection& c, const std::string& id);
+// Every token (for the constant-time match of tokens made before their secret carried their id).
+std::vector<TokenRecord> ListTokens(Connection& c);
 std::int64_t CountTokens(Connection& c);
 
 }  // namespace anchordb::storage

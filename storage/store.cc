@@ -2,6 +2,19 @@
 
 namespace anchordb::storage {
 
+namespace {
+thread_local std::function<void(Connection&)> t_before_commit;
+}  // namespace
+
+void SetBeforeCommitHook(std::function<void(Connection&)> hook) { t_before_commit = std::move(hook); }
+
+void RunBeforeCommitHook(Connection& connection) {
+  if (!t_before_commit) return;
+  auto hook = std::move(t_before_commit);
+  t_before_commit = nullptr;
+  hook(connection);
+}
+
 Store::Store(const StoreOptions& options) : options_(options) {
   writer_ = std::make_unique<Connection>(options_.path, options_.connection);
   migration_report_ = ApplyMigrations(*writer_, EmbeddedMigrations());

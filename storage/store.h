@@ -14,6 +14,12 @@
 
 namespace anchordb::storage {
 
+// A function the calling thread arms to run inside its next write transaction, just before the commit (the audit
+// trail writes an operator's entry in the change's own transaction: services/audit/). It runs at most once; an
+// exception from it rolls the transaction back. An empty function disarms it.
+void SetBeforeCommitHook(std::function<void(Connection&)> hook);
+void RunBeforeCommitHook(Connection& connection);  // by Store::Write
+
 struct StoreOptions {
   std::string path;
   ConnectionOptions connection;
@@ -43,9 +49,11 @@ class Store {
     Transaction tx(writer);
     if constexpr (std::is_void_v<decltype(fn(writer))>) {
       fn(writer);
+      RunBeforeCommitHook(writer);
       tx.Commit();
     } else {
       auto result = fn(writer);
+      RunBeforeCommitHook(writer);
       tx.Commit();
       return result;
     }

@@ -21,7 +21,8 @@ Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, co
       scenes(store, o.scene, o.merge, clock),
       furniture(store, o.furniture, clock),
       events(store, &furniture, o.events, clock),
-      jobs(store, o.jobs, clock) {
+      jobs(store, o.jobs, clock),
+      audit(store, clock) {
   scenes.SetKeyframeListener(&events);
 }
 

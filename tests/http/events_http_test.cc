@@ -113,6 +113,30 @@ TEST_F(EventsHttpTest, LostKeyMoveIsInferredPastStateAnsweredAndOperatorRelabelS
   Ok("DELETE", "/v1/maps/home/instances/" + std::to_string(keys));
   EXPECT_EQ(Ok("GET", "/v1/maps/home/instances/" + std::to_string(keys))["status"], "deleted");
   EXPECT_EQ(Call("POST", "/v1/maps/home/instances/" + std::to_string(keys) + ":label", R"({"label":"keys"})").first, 409);
+
+  // The audit trail (auth off: actor "loopback"): the dialog's event labels, the operator's relabel and its refusal,
+  // the deletion, each with the record before and after; none of the robot's frames.
+  const json events = Ok("GET", "/v1/audit?map=home&action=event.label")["entries"];
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events[0]["actor"], json({{"token", "loopback"}, {"role", nullptr}}));
+  EXPECT_EQ(events[0]["status"], 200);
+  EXPECT_TRUE(events[0]["before"].is_object() && events[0]["after"].is_object()) << events[0].dump();
+  const json relabels = Ok("GET", "/v1/audit?map=home&action=instance.label&limit=1000")["entries"];
+  bool operator_relabel = false, refusal = false;
+  for (const json& e : relabels) {
+    if (e["resource"] != "instance=" + std::to_string(keys)) continue;
+    if (e["status"] == 200 && e["after"]["labels"] == json({{"car keys", 1.0}}) && e["before"]["labels"] != e["after"]["labels"]) {
+      operator_relabel = true;
+    }
+    if (e["status"] == 409 && e["before"] == e["after"]) refusal = true;
+  }
+  EXPECT_TRUE(operator_relabel) << relabels.dump();
+  EXPECT_TRUE(refusal) << relabels.dump();
+  const json deleted = Ok("GET", "/v1/audit?map=home&action=instance.delete")["entries"];
+  ASSERT_EQ(deleted.size(), 1u);
+  EXPECT_EQ(deleted[0]["after"]["status"], "deleted");
+  const json all = Ok("GET", "/v1/audit?map=home&limit=1000")["entries"];
+  for (const json& e : all) EXPECT_EQ(e["action"].get<std::string>().find("frames"), std::string::npos) << e.dump();
 }
 
 TEST_F(EventsHttpTest, ReanalysisOfAnOldKeyframeFindsAnObjectThatWasBackgroundThen) {

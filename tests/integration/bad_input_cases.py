@@ -12,6 +12,11 @@ MAX_BODY = 16384
 MAX_POLYGONS = 4
 MAX_VERTICES = 16
 MAX_MAP_PIXELS = 2000
+# The fixed request limits of api/request_limits.h (the settings above are set by the test).
+ID_LENGTH, NAME_LENGTH, LABEL_LENGTH, WORD_LENGTH = 64, 256, 256, 32
+CATEGORIES_PER_PIECE, CATEGORY_WORD_LENGTH, DESCRIPTION_WORD_LENGTH = 64, 64, 64
+FUSED_OPERANDS, QUERY_VALUE_LENGTH, QUERY_PARAMETERS = 16, 1024, 64
+MAX_FURNITURE, MAX_TEXT_LENGTH = 64, 500  # settings grounding_max_furniture, grounding_max_text_length (defaults)
 
 MAP = harness.SyntheticMap(40, 30, 0.1, origin=(-1.0, -1.0, 0.0), walls=[(20, 1, 20, 15)],
                            unknown=[(30, 20, 38, 28)])
@@ -99,7 +104,86 @@ def yaml_with(**changes):
     return text.encode()
 
 
+# A furniture graph the fixture creates (graph "{graph}"), and pieces to build over-long ones from.
+PIECE = {"position": [1.0, 0.0], "extent": [0.5, 0.5], "categories": {"table": 0.7, "chair": 0.3}}
+GRAPH = {"viewpoint": {"position": [0, 0], "heading_rad": 0},
+         "furniture": [dict(PIECE, id="t"), dict(PIECE, id="s", position=[1.0, 1.5], categories={"shelf": 1.0})]}
+GRAPHS = "/v1/maps/m/furniture-graphs"
+
+
+def graph(**changes):
+    body = json.loads(json.dumps(GRAPH))
+    body.update(changes)
+    return json.dumps(body)
+
+
+def long(n):
+    return "x" * n
+
+
+OVER_LIMIT = [
+    # One over each limit of api/request_limits.h and of the settings, on a representative set of routes; the
+    # path placeholders {instance} and {graph} are the fixture's.
+    C("map name", "POST", "/v1/maps", json.dumps({"id": "lim", "name": long(NAME_LENGTH + 1)}), 400,
+      "invalid_argument", "name"),
+    C("map id", "POST", "/v1/maps", json.dumps({"id": long(ID_LENGTH + 1)}), 400, "invalid_argument", "id"),
+    C("instance label", "POST", "/v1/maps/m/instances",
+      json.dumps({"label": long(LABEL_LENGTH + 1), "position": [0, 0, 0]}), 400, "invalid_argument", "label"),
+    C("instance kind", "POST", "/v1/maps/m/instances",
+      json.dumps({"kind": long(WORD_LENGTH + 1), "label": "a", "position": [0, 0, 0]}), 400, "invalid_argument",
+      "kind"),
+    C("relabel", "POST", "/v1/maps/m/instances/{instance}:label", json.dumps({"label": long(LABEL_LENGTH + 1)}), 400,
+      "invalid_argument", "label"),
+    C("relabel source", "POST", "/v1/maps/m/instances/{instance}:label",
+      json.dumps({"label": "keys", "source": long(WORD_LENGTH + 1)}), 400, "invalid_argument", "source"),
+    C("event label", "POST", "/v1/maps/m/events/1:label", json.dumps({"label": long(LABEL_LENGTH + 1)}), 400,
+      "invalid_argument", "label"),
+    C("painted label", "POST", LABEL_PATH, json.dumps({"label": long(LABEL_LENGTH + 1), "polygons": [SQUARE]}), 400,
+      "invalid_argument", "label"),
+    C("label layer name", "PUT", L + "/newlab",
+      json.dumps({"kind": "label", "base": "occ", "labels": {"1": long(LABEL_LENGTH + 1)}}), 400, "invalid_argument",
+      "labels.1"),
+    C("stimulus polygons", "POST", OBS_PATH, obs(stimulus=[SQUARE] * (MAX_POLYGONS + 1)), 413, "payload_too_large",
+      "stimulus"),
+    C("stimulus vertices", "POST", OBS_PATH, obs(stimulus=[[[0.9 + 0.001 * i, 0.2 + 0.01 * (i % 2)]
+                                                          for i in range(MAX_VERTICES + 1)]]), 413,
+      "payload_too_large", "stimulus[0]"),
+    C("fused operands", "PUT", L + "/newf",
+      json.dumps({"kind": "fused", "op": "or", "operands": [{"layer": "prob"}] * (FUSED_OPERANDS + 1)}), 400,
+      "invalid_argument", "operands"),
+    C("furniture pieces", "POST", GRAPHS,
+      graph(furniture=[dict(PIECE, position=[float(i), 0.0]) for i in range(MAX_FURNITURE + 1)]), 413,
+      "payload_too_large", "furniture"),
+    C("categories of a piece", "POST", GRAPHS,
+      graph(furniture=[dict(PIECE, categories={"w%d" % i: 0.01 for i in range(CATEGORIES_PER_PIECE + 1)}),
+                       GRAPH["furniture"][1]]), 413, "payload_too_large", "furniture[0].categories"),
+    C("category word", "POST", GRAPHS,
+      graph(furniture=[dict(PIECE, categories={long(CATEGORY_WORD_LENGTH + 1): 1.0}), GRAPH["furniture"][1]]), 400,
+      "invalid_argument", "furniture[0].categories"),
+    C("piece id", "POST", GRAPHS, graph(furniture=[dict(PIECE, id=long(ID_LENGTH + 1)), GRAPH["furniture"][1]]), 400,
+      "invalid_argument", "furniture[0].id"),
+    C("description text", "POST", GRAPHS + "/{graph}/descriptions", json.dumps({"text": long(MAX_TEXT_LENGTH + 1)}),
+      400, "invalid_argument", "text"),
+    C("description word", "POST", GRAPHS + "/{graph}/descriptions",
+      json.dumps({"located": long(DESCRIPTION_WORD_LENGTH + 1), "relation": "left_of", "reference": "shelf"}), 400,
+      "invalid_argument", "located"),
+    C("scene mode", "POST", "/v1/maps/m/scenes",
+      json.dumps({"camera": {"width": 64, "height": 48, "fx": 60, "fy": 60, "cx": 32, "cy": 24},
+                  "pose": {"position": [0, 0, 1], "orientation": [0, 0, 0, 1]},
+                  "params": {"dynamic_mode": long(WORD_LENGTH + 1)}}), 400, "invalid_argument", "params.dynamic_mode"),
+    C("label= query", "GET", "/v1/maps/m/instances?label=" + long(LABEL_LENGTH + 1), None, 400, "invalid_argument",
+      "label"),
+    C("where label= query", "GET", "/v1/maps/m/where?label=" + long(LABEL_LENGTH + 1), None, 400, "invalid_argument",
+      "label"),
+    C("any query value", "GET", "/v1/maps?cursor=" + long(QUERY_VALUE_LENGTH + 1), None, 400, "invalid_argument",
+      "cursor"),
+    C("query parameters", "GET", "/v1/maps?" + "&".join("p%d=1" % i for i in range(QUERY_PARAMETERS + 1)), None, 413,
+      "payload_too_large"),
+    C("audit actor= query", "GET", "/v1/audit?actor=" + long(ID_LENGTH + 1), None, 400, "invalid_argument", "actor"),
+]
+
 CASES = {
+    "over_limit": OVER_LIMIT,
     "create_map": [
         C("truncated json", "POST", "/v1/maps", '{"id":', 400, "invalid_json"),
         C("empty body", "POST", "/v1/maps", "", 400, "invalid_json"),

@@ -69,6 +69,22 @@ def create_token(db_path, role):
     return m.group(1)
 
 
+def server_with_tokens(roles=("reader", "writer", "admin"), before_start=None):
+    """A server started with --auth=required after `anchordb token create` made one token per role; returns
+    (server, {role: secret}). `before_start(db_path)` may change the file first. The caller closes the server."""
+    server = Server(None, start=False)
+    try:
+        secrets = {role: create_token(server.db_path, role) for role in roles}
+        if before_start:
+            before_start(server.db_path)
+        server.extra_args = ["--auth=required"]
+        server.start()
+    except Exception:
+        server.close()
+        raise
+    return server, secrets
+
+
 class ServerDied(AssertionError):
     pass
 

@@ -45,15 +45,7 @@ class RefuseToStartTest(unittest.TestCase):
 class RolesTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.server = harness.Server(None, start=False)
-        try:
-            cls.secrets = {role: harness.create_token(cls.server.db_path, role)
-                           for role in ("reader", "writer", "admin")}
-            cls.server.extra_args = ["--auth=required"]
-            cls.server.start()
-        except Exception:
-            cls.server.close()
-            raise
+        cls.server, cls.secrets = harness.server_with_tokens()
         cls.anon = cls.server.make_client()
         cls.reader = cls.server.make_client(cls.secrets["reader"])
         cls.writer = cls.server.make_client(cls.secrets["writer"])

@@ -12,8 +12,8 @@ import unittest
 
 import harness
 
-from bad_input_cases import (C, CASES, L, MAP, MAX_BODY, MAX_MAP_PIXELS, MAX_POLYGONS, MAX_VERTICES, OBS, OBS_PATH,
-                             SQUARE, obs, padded)
+from bad_input_cases import (C, CASES, GRAPH, GRAPHS, ID_LENGTH, L, LABEL_LENGTH, MAP, MAX_BODY, MAX_MAP_PIXELS,
+                             MAX_POLYGONS, MAX_VERTICES, OBS, OBS_PATH, QUERY_PARAMETERS, SQUARE, obs, padded)
 
 
 class BadInputTest(unittest.TestCase):
@@ -34,6 +34,8 @@ class BadInputTest(unittest.TestCase):
             c.request("POST", OBS_PATH, OBS)
             c.paint_label("m", "lab", "kitchen", [SQUARE])
             c.put_agent("m", "p", [1.0, 1.0], 0.0)
+            cls.instance = c.create_instance("m", "table", [1.0, 2.0, 0.0])["id"]
+            cls.graph = c.request("POST", GRAPHS, GRAPH)["id"]
         except Exception:
             cls.server.close()
             raise
@@ -46,7 +48,10 @@ class BadInputTest(unittest.TestCase):
     def snapshot(self):
         c = self.c
         state = {"maps": c.list_maps(), "map": c.get_map("m"), "layers": c.list_layers("m"),
-                 "agents": c.list_agents("m")}
+                 "agents": c.list_agents("m"), "instances": c.instances("m"),
+                 "graphs": c.request("GET", GRAPHS), 
+                 # a refused edit is audited with its status (by design); no successful one may appear
+                 "audit": [e for e in c.request("GET", "/v1/audit")["entries"] if e["status"] < 400]}
         for layer in state["layers"]["layers"]:
             name = layer["name"]
             state["raw " + name] = c.get_layer("m", name, "raw")
@@ -57,7 +62,8 @@ class BadInputTest(unittest.TestCase):
     def send(self, case):
         headers = {"Content-Type": case.content_type or "application/json"} if case.body is not None else None
         body = case.body.encode() if isinstance(case.body, str) else case.body
-        return self.c.request(case.method, case.path, body, headers=headers, raw=True)
+        path = case.path.replace("{instance}", str(self.instance)).replace("{graph}", str(self.graph))
+        return self.c.request(case.method, path, body, headers=headers, raw=True)
 
     def run_cases(self, group):
         before = self.snapshot()
@@ -78,6 +84,11 @@ class BadInputTest(unittest.TestCase):
                 if case.field is not None:
                     self.assertEqual(err["field"], case.field, ctx)
                 self.assertEqual(changed, [], "state changed after a rejected request: " + ctx)
+
+    def test_over_limit(self):
+        """One over each length limit of strings, arrays and query strings (api/request_limits.h, the settings):
+        a clear error naming the field, and nothing changed (instances, graphs and the audit trail included)."""
+        self.run_cases("over_limit")
 
     def test_create_map(self):
         self.run_cases("create_map")
@@ -158,6 +169,14 @@ class BadInputTest(unittest.TestCase):
         r = self.send(C("almost unit", "POST", L + "/prob2/observations",
                         obs(**{"pose.orientation": [0, 0, 0, 1.0005]}), 200, None))
         self.assertEqual(r.status, 200, r.body)
+        # At the limits (not over them) requests are accepted.
+        # (An instance label may be sent with up to LABEL_LENGTH bytes; once normalised it has at most 64 characters.)
+        padded_label = " " * (LABEL_LENGTH - 64) + "y" * 64
+        at = c.create_instance("m", padded_label, [0.0, 0.0, 0.0])
+        self.assertEqual(list(at["labels"]), ["y" * 64])
+        self.assertEqual(c.request("GET", "/v1/maps/m/instances?label=" + "y" * 64)["instances"][0]["id"], at["id"])
+        self.assertIn("maps", c.request("GET", "/v1/maps?cursor=" + "z" * ID_LENGTH + "&" +
+                                        "&".join("p%d=1" % i for i in range(QUERY_PARAMETERS - 1))))
 
 
 if __name__ == "__main__":

@@ -211,15 +211,18 @@ TEST(StoreTest, RestartRoundTripIsByteIdentical) {
   EXPECT_EQ(DecodeBlob(back->data).bytes, std::string(AsBytes(cells)));
 }
 
-TEST(StoreTest, TokensByHash) {
+TEST(StoreTest, TokensByIdAndAll) {
   testing::TempDir dir;
   Store store(OptionsFor(dir.File("db.sqlite")));
   store.Write([](Connection& c) { InsertToken(c, {"t1", "abc", "writer", 1}); });
   EXPECT_THROW(store.Write([](Connection& c) { InsertToken(c, {"t2", "def", "root", 1}); }), Error);
   store.Read([](Connection& c) {
     EXPECT_EQ(CountTokens(c), 1);
-    EXPECT_EQ(FindTokenByHash(c, "abc")->role, "writer");
-    EXPECT_FALSE(FindTokenByHash(c, "nope"));
+    EXPECT_EQ(FindTokenById(c, "t1")->sha256_hex, "abc");
+    EXPECT_FALSE(FindTokenById(c, "t2"));
+    const auto all = ListTokens(c);
+    EXPECT_EQ(all.size(), 1u);
+    EXPECT_EQ(all.empty() ? "" : all[0].role, "writer");
     return 0;
   });
 }
