@@ -49,7 +49,8 @@ class AuditTrail {
 
   Response Observe(const Route& route, const Caller& caller, const RequestContext& ctx, const std::function<Response()>& call) {
     const AuditedAction* action = Find(route);
-    if (!action && caller.role != Role::kAdmin) return call();
+    // Reads are not actions: an admin's GET (a dashboard polling /metrics, this very route) writes no entry.
+    if (!action && (caller.role != Role::kAdmin || route.method == "GET")) return call();
     std::unique_lock<std::mutex> one_edit_at_a_time(edits_, std::defer_lock);
     if (action && action->snapshot_pattern) one_edit_at_a_time.lock();
     services::AuditEntry entry;
@@ -64,10 +65,17 @@ class AuditTrail {
     const bool snapshots = action && action->snapshot_pattern;
     if (snapshots) entry.before_json = Snapshot(action->snapshot_pattern, ctx);
     services::AuditService::InFlight in_flight = audit_.Begin(std::move(entry));
+    // Completing the entry is a write of its own after the change: when the storage fails it (disk full, I/O error),
+    // the answer stays the change's own (the change is committed or not regardless); the entry then keeps status 0,
+    // "outcome not recorded", as after a crash between the change and its answer.
     const auto finish = [&](int status, std::optional<std::string> after) {
       services::AuditService::Disarm();
-      if (snapshots) after = Snapshot(action->snapshot_pattern, ctx);
-      audit_.Finish(in_flight, status, std::move(after));
+      try {
+        if (snapshots) after = Snapshot(action->snapshot_pattern, ctx);
+        audit_.Finish(in_flight, status, std::move(after));
+      } catch (const Error& e) {
+        if (e.code() != ErrorCode::kUnavailable && e.code() != ErrorCode::kInsufficientStorage && e.code() != ErrorCode::kOverloaded) throw;
+      }
     };
     Response out;
     try {

@@ -1,6 +1,6 @@
 #pragma once
 // The audit trail at the HTTP edge (SPEC §8) and its route GET /v1/audit (admin).
-// Audited: every request made with an admin token, and the editing actions of an operator whatever the role
+// Audited: every write (not GET) made with an admin token, and the editing actions of an operator whatever the role
 // (labels of instances and events, pins, instance creation and deletion, keyframe relevance, map and layer
 // deletion, forgetting (dry runs too: they are admin requests), backups). Not audited: the robot's bulk writes
 // (frames, observations, agents) and requests refused before their handler (401/403, 400 of a malformed path:

@@ -205,7 +205,11 @@ void JobService::Worker() {
         return next.value_or(0);
       });
     } catch (const std::exception&) {
-      id = 0;
+      // The queue could not be read now (an I/O error, memory ran out): the job is still queued, so it is not given
+      // up (that would leave it queued for good); the worker looks again shortly.
+      std::unique_lock<std::mutex> lock(mutex_);
+      wake_.wait_for(lock, std::chrono::milliseconds(100), [&] { return stop_; });
+      continue;
     }
     if (id == 0) {
       // The queued row vanished (its map was deleted, which cascades to its jobs, or it was cancelled).

@@ -146,11 +146,13 @@ class AuditTest(unittest.TestCase):
         [e] = self.entries("map.delete")
         self.assertEqual((e["before"]["id"], e["after"]), (self.map, None))
 
-    def test_every_admin_request_is_audited_robot_writes_are_not(self):
+    def test_every_admin_write_is_audited_reads_and_robot_writes_are_not(self):
         self.admin.get_map(self.map)
         self.writer.put_agent(self.map, "p", [1.0, 1.0], 0.0)
+        self.admin.put_agent(self.map, "q", [2.0, 1.0], 0.0)
         got = self.audit(map=self.map)["entries"]
-        self.assertEqual([e["action"] for e in got], ["GET /v1/maps/{map}"])
+        self.assertEqual([e["action"] for e in got], ["PUT /v1/maps/{map}/agents/{agent}"])
+        self.assertEqual(got[0]["resource"], "agent=q")
 
     def test_readers_and_writers_get_403(self):
         for client in (self.reader, self.writer):
