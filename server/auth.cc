@@ -4,9 +4,9 @@
 #include <openssl/evp.h>
 #include <openssl/rand.h>
 
-#include <chrono>
 #include <stdexcept>
 
+#include "schema/clock.h"
 #include "schema/json_io.h"
 #include "storage/audit_repository.h"
 #include "storage/repositories.h"
@@ -47,9 +47,6 @@ std::optional<std::string> TokenIdOf(const std::string& secret) {
   return "tok_" + secret.substr(4, kIdHexDigits);
 }
 
-std::int64_t NowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
 }  // namespace
 
 std::string Sha256Hex(const std::string& text) {
@@ -69,7 +66,7 @@ CreatedToken CreateToken(storage::Store& store, const std::string& role, const s
   }
   const std::string id_hex = RandomHex(kIdHexDigits / 2);
   CreatedToken t{"tok_" + id_hex, "adb_" + id_hex + "_" + RandomHex(kSecretHexDigits / 2), role};
-  storage::TokenRecord record{t.id, Sha256Hex(t.secret), role, NowNs()};
+  storage::TokenRecord record{t.id, Sha256Hex(t.secret), role, SystemClock::Instance().NowNs()};
   storage::AuditRecord audit;
   audit.time_ns = record.created_ns, audit.actor = actor, audit.action = "token.create", audit.resource = t.id;
   audit.after_json = json::Json{{"id", t.id}, {"role", role}, {"created_ns", record.created_ns}}.dump();
