@@ -158,10 +158,10 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
     std::vector<Eigen::Vector3f> cloud_C = BackProject(prior.background_m, prior.K, X_CM * prior.X_MapCamera);
     Eigen::Isometry3d X_C_prior = X_CM * prior.X_MapCamera;  // pose of the earlier camera in the current one
     if (params.strategy != MergeStrategy::kNaiveWithoutIcp && !cloud_C.empty() && icp_target.points > 0) {
-      report.icp = AlignIcp(cloud_C, icp_target);
-      const double angle = Eigen::AngleAxisd(report.icp.correction.linear()).angle();
-      if (report.icp.converged && report.icp.fitness_m2 < report.icp.fitness_before_m2 &&
-          report.icp.correction.translation().norm() <= params.max_icp_translation_m && angle <= params.max_icp_rotation_rad) {
+      const Matrix6d prior_covariance = RelativePoseCovariance(X_MapCamera, params.current_pose_covariance_map,
+                                                               prior.X_MapCamera, prior.pose_covariance_map);
+      report.icp = AlignIcp(cloud_C, icp_target, prior_covariance);
+      if (report.icp.accepted) {
         report.icp_applied = true;
         for (auto& p : cloud_C) p = (report.icp.correction.cast<float>() * p);
         X_C_prior = report.icp.correction * X_C_prior;

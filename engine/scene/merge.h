@@ -24,6 +24,8 @@ struct PriorModel {
   PinholeIntrinsics K;
   Eigen::Isometry3d X_MapCamera = Eigen::Isometry3d::Identity();  // as stored (may be off by the localisation error)
   std::vector<float> background_m;                                // its static background, 0 = unknown
+  // The uncertainty of X_MapCamera (map frame, registration.h's Matrix6d): the localisation error it may have.
+  Matrix6d pose_covariance_map = PoseCovarianceFromSigma(0.03, 0.035);
 };
 
 enum class MergeStrategy {
@@ -55,9 +57,9 @@ struct MergeParams {
   double rear_projection_min_unknown_px = 14.0;
   bool record_decisions = false;  // fill MergeModelReport::decisions (Algorithm 2 only)
   IcpParams icp;
-  // ICP corrections beyond these, or that do not improve the fit, are not trusted (the stored poses are kept).
-  double max_icp_translation_m = 0.15;
-  double max_icp_rotation_rad = 0.105;
+  // The uncertainty of the current camera's pose (map frame): with each earlier model's, the prior of the
+  // registration (RelativePoseCovariance); the registration decides whether its correction is trusted.
+  Matrix6d current_pose_covariance_map = PoseCovarianceFromSigma(0.03, 0.035);
 };
 
 // What the merge of one earlier model did at a pixel of the new view (MergeParams::record_decisions), for diagnosis.

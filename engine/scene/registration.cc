@@ -106,15 +106,45 @@ IcpTarget PrepareIcpTarget(const std::vector<Eigen::Vector3f>& target, const Icp
   return out;
 }
 
+Matrix6d PoseCovarianceFromSigma(double sigma_translation_m, double sigma_rotation_rad) {
+  Matrix6d c = Matrix6d::Zero();
+  c.diagonal() << Eigen::Vector3d::Constant(sigma_translation_m * sigma_translation_m),
+      Eigen::Vector3d::Constant(sigma_rotation_rad * sigma_rotation_rad);
+  return c;
+}
+
+// Placeholder until issue 13's registration lands: both map-frame covariances rotated into the current camera frame
+// and added (the lever arm of a rotation error is ignored).
+Matrix6d RelativePoseCovariance(const Eigen::Isometry3d& X_MapCurrent, const Matrix6d& covariance_current_map,
+                                const Eigen::Isometry3d& X_MapEarlier, const Matrix6d& covariance_earlier_map) {
+  (void)X_MapEarlier;
+  Matrix6d R = Matrix6d::Zero();
+  const Eigen::Matrix3d R_CM = X_MapCurrent.linear().transpose();
+  R.topLeftCorner<3, 3>() = R_CM, R.bottomRightCorner<3, 3>() = R_CM;
+  return R * (covariance_current_map + covariance_earlier_map) * R.transpose();
+}
+
 IcpResult AlignIcp(const std::vector<Eigen::Vector3f>& source, const IcpTarget& target) {
+  return AlignIcp(source, target,
+                  PoseCovarianceFromSigma(target.params.prior_sigma_translation_m * std::sqrt(2.0),
+                                          target.params.prior_sigma_rotation_rad * std::sqrt(2.0)));
+}
+
+IcpResult AlignIcp(const std::vector<Eigen::Vector3f>& source, const IcpTarget& target,
+                   const Matrix6d& prior_covariance) {
   const IcpParams& params = target.params;
   IcpResult result;
+  result.covariance = prior_covariance;
+  result.verdict = "not enough points";
   const auto src_xyz = ToDownsampledCloud(source, params, params.max_source_points);
   result.source_points = src_xyz->size();
   result.target_points = target.points;
   if (src_xyz->size() < 10 || target.points < 10 || !target.data) return result;
   const IcpTargetData& tgt = *target.data;
-  if (PointToPlaneIsSingular(*tgt.cloud)) return result;  // not converged: the prior pose stands
+  if (PointToPlaneIsSingular(*tgt.cloud)) {  // not converged: the prior pose stands
+    result.verdict = "singular point-to-plane problem";
+    return result;
+  }
   // The source needs no normals (point-to-plane uses the target's); zero normals keep PCL's type uniform.
   auto src = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
   src->reserve(src_xyz->size());
@@ -179,6 +209,19 @@ IcpResult AlignIcp(const std::vector<Eigen::Vector3f>& source, const IcpTarget& 
   result.converged = converged;
   result.fitness_m2 = fitness(T);
   result.correction.matrix() = T.cast<double>();
+  // Placeholder acceptance until issue 13's registration lands: converged, a better fit, and within fixed bounds.
+  const double angle = Eigen::AngleAxisd(result.correction.linear()).angle();
+  if (!converged) {
+    result.verdict = "did not converge";
+  } else if (!(result.fitness_m2 < result.fitness_before_m2)) {
+    result.verdict = "no better fit";
+  } else if (result.correction.translation().norm() > 0.15 || angle > 0.105) {
+    result.verdict = "correction beyond 15 cm / 6 deg";
+  } else {
+    result.accepted = true;
+    result.verdict = "accepted";
+    result.covariance = PoseCovarianceFromSigma(0.0025, 0.001);
+  }
   return result;
 }
 
