@@ -6,6 +6,7 @@
 #include "api/http_api.h"  // Eigen before httplib (see api/http_api.h)
 #include "tests/support/server_process.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/wall_and_box.h"
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -17,12 +18,9 @@ namespace {
 
 using nlohmann::json;
 
-constexpr int kW = 160, kH = 120;
-
-// A wall 2 m in front of the camera, with a box at 1.5 m where `box` says; raw little-endian u16 [mm].
+// The wall-and-box frames of tests/support/wall_and_box.h, raw little-endian u16 [mm].
 std::string Depth(bool box) {
-  std::vector<std::uint16_t> d(kW * kH, 2000);
-  if (box) for (int v = 40; v < 80; ++v) for (int u = 60; u < 100; ++u) d[v * kW + u] = 1500;
+  const std::vector<std::uint16_t> d = testing::WallDepthMm(box);
   return std::string(reinterpret_cast<const char*>(d.data()), d.size() * 2);
 }
 
@@ -50,7 +48,8 @@ class AnalysisQueueHttpTest : public ::testing::Test {
     return Call("POST", scene + "/frames?stamp=" + std::to_string(stamp_ns) + query, Depth(box), "application/octet-stream", 200);
   }
   std::string OpenScene(std::int64_t stamp_ns) {
-    const json camera = {{"width", kW}, {"height", kH}, {"fx", 130.0}, {"fy", 130.0}, {"cx", 79.5}, {"cy", 59.5}};
+    const PinholeIntrinsics K = testing::WallCamera();
+    const json camera = {{"width", K.width}, {"height", K.height}, {"fx", K.fx}, {"fy", K.fy}, {"cx", K.cx}, {"cy", K.cy}};
     const json pose = {{"position", {0.0, 0.0, 1.0}}, {"orientation", {0.0, 0.0, 0.0, 1.0}}};
     const json opened = Ok("POST", "/v1/maps/home/scenes", json({{"camera", camera}, {"pose", pose}, {"stamp", stamp_ns}}).dump(), 201);
     return "/v1/maps/home/scenes/" + std::to_string(opened["id"].get<std::int64_t>());

@@ -18,19 +18,14 @@
 #include "storage/fault_vfs.h"
 #include "storage/repositories.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/wall_and_box.h"
 
 namespace anchordb::services {
 namespace {
 
-constexpr int kW = 160, kH = 120;
 constexpr std::int64_t kT0 = 1'000'000'000'000LL;
 
-// A wall 2 m in front of the camera, with a box at 1.5 m where `box` says.
-std::vector<std::uint16_t> Depth(bool box) {
-  std::vector<std::uint16_t> d(kW * kH, 2000);
-  if (box) for (int v = 40; v < 80; ++v) for (int u = 60; u < 100; ++u) d[v * kW + u] = 1500;
-  return d;
-}
+std::vector<std::uint16_t> Depth(bool box) { return testing::WallDepthMm(box); }
 
 class AnalysisQueueTest : public ::testing::Test {
  protected:
@@ -58,16 +53,12 @@ class AnalysisQueueTest : public ::testing::Test {
   }
   std::int64_t OpenScene(const std::string& map) {
     OpenSceneRequest r;
-    r.camera = {kW, kH, 130.0, 130.0, 79.5, 59.5};
+    r.camera = testing::WallCamera();
     r.stamp_ns = kT0;
     return scenes_->Open(map, r).id;
   }
   FrameResult AddFrame(const std::string& map, std::int64_t scene, const std::vector<std::uint16_t>& depth, std::int64_t stamp_ns) {
-    FrameInput in;
-    in.body = std::string_view(reinterpret_cast<const char*>(depth.data()), depth.size() * 2);
-    in.png = false;
-    in.stamp_ns = stamp_ns;
-    return scenes_->AddFrame(map, scene, in);
+    return scenes_->AddFrame(map, scene, testing::RawFrame(depth, stamp_ns));
   }
   // A model that saw a box appear: begin keyframe (empty wall), then a manual keyframe with the box. Returns the
   // manual keyframe's id; its analysis finds one "added" event.
@@ -290,7 +281,7 @@ TEST_F(AnalysisQueueTest, TheAnalysisReadsTheKeyframesImagesAsTheModelHadThem) {
   EXPECT_EQ(notice->stamp_ns, kT0 + 200);
   EXPECT_EQ(notice->action_layer, 1);
   EXPECT_EQ(notice->depth_mm, Depth(true));  // the latest frame (raw, 1000 units per metre) as the model kept it
-  std::vector<float> metres(kW * kH);
+  std::vector<float> metres(testing::kWallW * testing::kWallH);
   ASSERT_EQ(background.body.size(), metres.size() * 4);
   std::memcpy(metres.data(), background.body.data(), background.body.size());
   std::vector<std::uint16_t> mm(metres.size());

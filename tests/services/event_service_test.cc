@@ -15,18 +15,13 @@
 #include "storage/repositories.h"
 #include "storage/scene_repository.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/wall_and_box.h"
 
 namespace anchordb::services {
 namespace {
 
-constexpr int kW = 160, kH = 120;
 
-// A wall 2 m in front of the camera, with a box at 1.5 m where `box` says.
-std::vector<std::uint16_t> Depth(bool box) {
-  std::vector<std::uint16_t> d(kW * kH, 2000);
-  if (box) for (int v = 40; v < 80; ++v) for (int u = 60; u < 100; ++u) d[v * kW + u] = 1500;
-  return d;
-}
+std::vector<std::uint16_t> Depth(bool box) { return testing::WallDepthMm(box); }
 
 class EventServiceTest : public ::testing::Test {
  protected:
@@ -54,18 +49,13 @@ class EventServiceTest : public ::testing::Test {
   // The scene calls of these tests (one place to adapt when the scene service's requests change).
   std::int64_t OpenScene(const std::string& map) {
     OpenSceneRequest r;
-    r.camera = {kW, kH, 130.0, 130.0, 79.5, 59.5};
+    r.camera = testing::WallCamera();
     r.stamp_ns = 1'000'000'000'000LL;
     return scenes_->Open(map, r).id;
   }
   FrameResult AddFrame(const std::string& map, std::int64_t scene, const std::vector<std::uint16_t>& depth, std::int64_t stamp_ns,
                        bool wait_for_analysis = false) {
-    FrameInput in;
-    in.wait_for_analysis = wait_for_analysis;
-    in.body = std::string_view(reinterpret_cast<const char*>(depth.data()), depth.size() * 2);
-    in.png = false;
-    in.stamp_ns = stamp_ns;
-    return scenes_->AddFrame(map, scene, in);
+    return scenes_->AddFrame(map, scene, testing::RawFrame(depth, stamp_ns, wait_for_analysis));
   }
   std::size_t Keyframes(const std::string& map, std::int64_t scene) {
     return store_->Read([&](storage::Connection& c) { return storage::ListKeyframes(c, map, scene).size(); });
