@@ -4,6 +4,10 @@
 #include <chrono>
 #include <cmath>
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include "schema/error.h"
 #include "services/common/require.h"
 
@@ -165,6 +169,8 @@ void AnalysisQueue::Finish(const storage::QueuedAnalysis& row, KeyframeAnalysisS
 }
 
 void AnalysisQueue::Worker() {
+  // Linux applies a thread's niceness to that thread alone (its tid as the "process"); failing to lower it is harmless.
+  if (settings_.nice > 0) (void)setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), settings_.nice);
   for (;;) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -258,7 +264,9 @@ AnalysisQueueView AnalysisQueue::View(const std::optional<std::string>& map) {
 
 AnalysisCounters AnalysisQueue::counters() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return counters_;
+  AnalysisCounters out = counters_;
+  out.computed_in_write = events_.analyses_in_write();
+  return out;
 }
 
 }  // namespace anchordb::services

@@ -15,6 +15,8 @@
 //   given up after `max_attempts` (the row stays, marked failed, and the map's queue moves on).
 // - A keyframe deleted before its analysis (forgetting, its scene or map deleted) takes its row with it; the analysis
 //   is skipped.
+// - The workers run at a lower CPU priority (`nice`): on a busy machine the requests go first and the queue grows,
+//   to be worked off when the load drops.
 // - Await waits (at most `wait_max_s`) for one keyframe's analysis; without started workers it runs the queue in the
 //   caller first. Drain runs every due analysis in the caller, for deterministic in-process callers (tests,
 //   evaluations). The server starts the workers (Start); in-process users that do not, run analyses only through
@@ -45,6 +47,7 @@ struct AnalysisQueueSettings {
   double retry_initial_s = 0.5;  // backoff after the first failed attempt [s], doubling
   double retry_max_s = 60.0;     // longest backoff [s]
   int max_attempts = 8;          // non-transient failures before an analysis is given up
+  int nice = 10;                 // the workers' scheduling niceness (0: as the request threads; 19: lowest)
 };
 
 // One map's queue (or all maps'), for GET /v1/maps/{map}/analysis.
@@ -61,6 +64,7 @@ struct AnalysisQueueView {
 struct AnalysisCounters {
   std::int64_t enqueued = 0, done = 0, skipped = 0, failed_attempts = 0, given_up = 0;
   double busy_s = 0.0;  // time spent analysing [s]
+  std::int64_t computed_in_write = 0;  // analyses computed inside their write transaction (EventService)
 };
 
 class AnalysisQueue : public KeyframeListener {

@@ -153,6 +153,7 @@ std::optional<KeyframeAnalysis> EventService::AnalyseKeyframe(const KeyframeNoti
     if (!claimed) return std::nullopt;
     if (written) return summary(std::move(*written), changes);
   }
+  ++analyses_in_write_;
   return store_.Write([&](storage::Connection& c) -> std::optional<KeyframeAnalysis> {
     if (claim && !claim(c)) return std::nullopt;
     const Snapshot s = read(c);

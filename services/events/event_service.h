@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <array>
+#include <atomic>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -74,6 +75,10 @@ class EventService {
   // Applies a newer scene model's background to an old keyframe's raw depth (3.3.4): objects missed then.
   ReanalyseResult Reanalyse(const std::string& map, std::int64_t keyframe_id, const ReanalyseRequest& request);
 
+  // Keyframe analyses computed inside their write transaction (the optimistic attempts were all overtaken by other
+  // writers of the map's instances): while one runs, every other writer of the file waits.
+  std::int64_t analyses_in_write() const { return analyses_in_write_.load(); }
+
   // Tests only: runs between an analysis' computation and its write transaction (map id as argument).
   void SetAnalysisHookForTesting(std::function<void(const std::string& map)> hook) { analysis_hook_ = std::move(hook); }
 
@@ -88,6 +93,7 @@ class EventService {
   EventSettings settings_;
   const Clock& clock_;
   std::function<void(const std::string&)> analysis_hook_;
+  std::atomic<std::int64_t> analyses_in_write_{0};
   // Analyses of one map run one at a time (instances are shared state; edits such as labels do not take it: the
   // analysis re-checks the instances in its write); maps hash onto a fixed set of mutexes, so
   // analyses of different maps run concurrently (unless two maps share a stripe) and no request can grow the set.

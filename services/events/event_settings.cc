@@ -31,6 +31,8 @@ void BindAnalysisQueueSettings(SettingsBinder& b, AnalysisQueueSettings& a) {
          &a.retry_initial_s, 0.001, 3600.0);
   b.Bind("analysis_retry_max_s", "longest backoff between attempts of a failing keyframe analysis [s]", &a.retry_max_s,
          0.001, 86400.0);
+  b.Bind("analysis_nice", "CPU niceness of the analysis workers (0: as the request threads; higher: requests go first)",
+         &a.nice, 0, 19);
   b.Bind("analysis_max_attempts", "attempts before a keyframe analysis failing with a non-transient error is given up",
          &a.max_attempts, 1, 1000000);
 }
