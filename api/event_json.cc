@@ -199,4 +199,47 @@ Json KeyframeAnalysisJson(const KeyframeAnalysis& a) {
   return out;
 }
 
+Json KeyframeAnalysisStatusJson(const KeyframeAnalysisStatus& s) {
+  Json out = s.result ? KeyframeAnalysisJson(*s.result) : Json::object();
+  out["state"] = NameOf(kAnalysisStateNames, s.state);
+  out["keyframe_id"] = s.keyframe_id;
+  if (s.attempts > 0) out["attempts"] = s.attempts;
+  if (s.last_error) out["last_error"] = *s.last_error;
+  return out;
+}
+
+Json AnalysisQueueJson(const AnalysisQueueView& v) {
+  Json failures = Json::array();
+  for (const storage::QueuedAnalysis& q : v.failures) {
+    failures.push_back({{"keyframe_id", q.keyframe_id}, {"scene_id", q.scene_id}, {"attempts", q.attempts},
+                        {"last_error", q.last_error.value_or("")}, {"given_up", q.failed},
+                        {"enqueued_ns", q.enqueued_ns}});
+  }
+  return {{"depth", v.pending},
+          {"running", v.running},
+          {"retrying", v.retrying},
+          {"failed", v.failed},
+          {"oldest_pending_age_s", v.oldest_pending_age_s ? Json(*v.oldest_pending_age_s) : Json(nullptr)},
+          {"failures", failures}};
+}
+
+std::string AnalysisMetricsText(const AnalysisQueueView& all, const AnalysisCounters& c) {
+  std::string out;
+  const auto line = [&out](const char* name, const char* type, const char* help, double value) {
+    out += std::string("# HELP ") + name + " " + help + "\n# TYPE " + name + " " + type + "\n" + name + " " + std::to_string(value) + "\n";
+  };
+  line("anchordb_analysis_queue_depth", "gauge", "keyframe analyses queued or running", static_cast<double>(all.pending));
+  line("anchordb_analysis_queue_oldest_age_seconds", "gauge", "age of the oldest queued keyframe analysis",
+       all.oldest_pending_age_s.value_or(0.0));
+  line("anchordb_analysis_given_up", "gauge", "keyframe analyses given up (kept in the queue, marked failed)", static_cast<double>(all.failed));
+  line("anchordb_analysis_enqueued_total", "counter", "keyframe analyses queued since start", static_cast<double>(c.enqueued));
+  line("anchordb_analysis_done_total", "counter", "keyframe analyses written since start", static_cast<double>(c.done));
+  line("anchordb_analysis_skipped_total", "counter", "analyses skipped: their keyframe was deleted", static_cast<double>(c.skipped));
+  line("anchordb_analysis_failures_total", "counter", "failed keyframe analysis attempts since start", static_cast<double>(c.failed_attempts));
+  line("anchordb_analysis_busy_seconds_total", "counter", "time spent analysing keyframes", c.busy_s);
+  line("anchordb_analysis_computed_in_write_total", "counter",
+       "analyses computed inside their write transaction (other writers of the file wait meanwhile)", static_cast<double>(c.computed_in_write));
+  return out;
+}
+
 }  // namespace anchordb::api

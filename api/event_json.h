@@ -3,7 +3,9 @@
 // where-is answer and keyframe operations. Parse errors are Error(kInvalidArgument) naming the field.
 #include "api/http_api.h"  // Eigen before httplib
 #include "services/events/event_types.h"
+#include "services/events/analysis_queue.h"
 #include "services/scene/keyframe_listener.h"
+#include "services/scene/scene_types.h"
 
 namespace anchordb::api {
 
@@ -29,5 +31,12 @@ Json KeyframeRelevanceJson(const services::KeyframeRelevance& k);
 Json ReanalyseJson(const services::ReanalyseResult& r);
 // The "analysis" of a frame or keyframe response: {events, segments, action_layer (when a layer was closed)}.
 Json KeyframeAnalysisJson(const services::KeyframeAnalysis& a);
+// The "analysis" of a response that stored a keyframe: {state, keyframe_id} (pending unless the request waited), with
+// the KeyframeAnalysisJson fields when done in this process, attempts and last_error after a failed attempt.
+Json KeyframeAnalysisStatusJson(const services::KeyframeAnalysisStatus& s);
+// GET /v1/maps/{map}/analysis: the map's analysis queue.
+Json AnalysisQueueJson(const services::AnalysisQueueView& v);
+// Prometheus text of the analysis queue (appended to GET /metrics).
+std::string AnalysisMetricsText(const services::AnalysisQueueView& all, const services::AnalysisCounters& counters);
 
 }  // namespace anchordb::api

@@ -4,6 +4,7 @@
 
 #include "api/event_json.h"
 #include "api/route_params.h"
+#include "services/events/analysis_queue.h"
 #include "services/events/event_service.h"
 
 namespace anchordb::api {
@@ -76,6 +77,12 @@ void RegisterEventRoutes(Router& router, EventService& e) {
         const ReanalyseRequest r = ParseReanalyseRequest(BodyObject(req));
         return JsonResponse(ReanalyseJson(e.Reanalyse(p["map"], KeyframeId(p), r)));
       });
+}
+
+void RegisterAnalysisRoutes(Router& router, AnalysisQueue& q) {
+  router.Add("GET", "/v1/maps/{map}/analysis", Role::kReader,
+      "The map's queue of keyframe change analyses: depth, running, retrying, failed, oldest pending age, failures",
+      [&q](const httplib::Request&, const PathParams& p) { return JsonResponse(AnalysisQueueJson(q.View(p["map"]))); });
 }
 
 }  // namespace anchordb::api

@@ -14,6 +14,7 @@ void RegisterAllRoutes(Router& router, services::Capabilities& c) {
   RegisterSceneRoutes(router, c.scenes);
   RegisterFurnitureRoutes(router, c.furniture);
   RegisterEventRoutes(router, c.events);
+  RegisterAnalysisRoutes(router, c.analysis);
   RegisterJobRoutes(router, c.jobs);
   RegisterAuditRoutes(router, c.audit);  // last: it observes the routes above
 }

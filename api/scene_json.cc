@@ -56,7 +56,7 @@ Json OrNull(const std::optional<std::int64_t>& v) { return v ? Json(*v) : Json(n
 void AddKeyframe(Json& out, const std::optional<StoredKeyframe>& k) {
   if (!k) return;
   out["keyframe"] = k->id;
-  if (k->analysis) out["analysis"] = KeyframeAnalysisJson(*k->analysis);
+  if (k->analysis) out["analysis"] = KeyframeAnalysisStatusJson(*k->analysis);
 }
 
 }  // namespace

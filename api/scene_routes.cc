@@ -45,6 +45,7 @@ FrameInput ParseFrame(const httplib::Request& req) {
   FrameInput in;
   in.stamp_ns = QueryTime(req, "stamp");
   in.depth_scale = OptionalQueryNumber(req, "depth_scale");
+  in.wait_for_analysis = QueryBool(req, "wait_for_analysis");
   const std::string type = req.get_header_value("Content-Type");
   if (req.is_multipart_form_data()) {
     if (!req.has_file("depth")) throw Error(ErrorCode::kInvalidArgument, "multipart part 'depth' is missing", "depth");
@@ -97,7 +98,8 @@ void RegisterSceneRoutes(Router& router, SceneService& s) {
   router.Add("GET", "/v1/maps/{map}/scenes/{scene}", Role::kReader, "A scene model: camera, pose, status, frames, keyframes",
       [&s](const httplib::Request&, const PathParams& p) { return JsonResponse(SceneJson(s.Get(p["map"], SceneId(p)), true)); });
   router.Add("POST", "/v1/maps/{map}/scenes/{scene}/frames", Role::kWriter,
-      "One depth frame: image/png (16-bit), application/octet-stream (raw uint16 LE), or multipart parts depth + dynamic",
+      "One depth frame: image/png (16-bit), application/octet-stream (raw uint16 LE), or multipart parts depth + dynamic; "
+      "a keyframe it stores is analysed later unless wait_for_analysis=true",
       [&s](const httplib::Request& req, const PathParams& p) { return JsonResponse(FrameJson(s.AddFrame(p["map"], SceneId(p), ParseFrame(req)))); });
   router.Add("GET", "/v1/maps/{map}/scenes/{scene}/layers/{layer}", Role::kReader,
       "A scene layer (static, movable, dynamic, reliability) as png, raw or json; clean=true cleans the movable layer",
@@ -109,10 +111,14 @@ void RegisterSceneRoutes(Router& router, SceneService& s) {
         const auto encoding = format == "png" ? SceneLayerEncoding::kPng : SceneLayerEncoding::kRaw;
         return BytesResponse(s.Layer(p["map"], SceneId(p), layer, encoding, clean));
       });
-  router.Add("POST", "/v1/maps/{map}/scenes/{scene}/keyframes", Role::kWriter, "Store a keyframe of the scene now",
-      [&s](const httplib::Request&, const PathParams& p) { return JsonResponse(KeyframeJson(s.Keyframe(p["map"], SceneId(p))), 201); });
-  router.Add("POST", "/v1/maps/{map}/scenes/{scene}:close", Role::kWriter, "End the observation: end keyframe, state persisted",
-      [&s](const httplib::Request&, const PathParams& p) { return JsonResponse(CloseJson(s.Close(p["map"], SceneId(p)))); });
+  router.Add("POST", "/v1/maps/{map}/scenes/{scene}/keyframes", Role::kWriter, "Store a keyframe of the scene now (its change analysis is queued; wait_for_analysis=true waits for it)",
+      [&s](const httplib::Request& req, const PathParams& p) {
+        return JsonResponse(KeyframeJson(s.Keyframe(p["map"], SceneId(p), QueryBool(req, "wait_for_analysis"))), 201);
+      });
+  router.Add("POST", "/v1/maps/{map}/scenes/{scene}:close", Role::kWriter, "End the observation: end keyframe (analysis queued; wait_for_analysis=true waits), state persisted",
+      [&s](const httplib::Request& req, const PathParams& p) {
+        return JsonResponse(CloseJson(s.Close(p["map"], SceneId(p), QueryBool(req, "wait_for_analysis"))));
+      });
   router.Add("GET", "/v1/maps/{map}/keyframes/{keyframe}", Role::kReader, "A keyframe's metadata",
       [&s](const httplib::Request&, const PathParams& p) { return JsonResponse(KeyframeInfoJson(s.GetKeyframe(p["map"], KeyframeId(p)))); });
   router.Add("GET", "/v1/maps/{map}/keyframes/{keyframe}/depth", Role::kReader, "A keyframe's raw depth as 16-bit PNG [mm]",

@@ -13,6 +13,7 @@
 
 #include "api/http_api.h"
 #include "api/job_json.h"
+#include "api/event_json.h"
 #include "api/routes.h"
 #include "schema/error.h"
 #include "server/auth.h"
@@ -117,6 +118,11 @@ int Serve(const Config& config) {
   if (capabilities.jobs.interrupted_at_start() > 0) {
     Log("jobs interrupted by the previous stop, marked failed: " + std::to_string(capabilities.jobs.interrupted_at_start()));
   }
+  // Keyframe analyses left queued by the previous stop (or kill -9) resume with the workers.
+  capabilities.analysis.Start();
+  if (const auto queued = capabilities.analysis.View(std::nullopt); queued.pending > 0) {
+    Log("keyframe analyses queued at start, resuming: " + std::to_string(queued.pending));
+  }
 
   ServingLimits limits;
   limits.worker_threads = o.threads;
@@ -134,7 +140,9 @@ int Serve(const Config& config) {
   };
   if (config.server.log_requests) options.log = Log;
   options.settings = [config] { return SettingsJson(config); };
-  options.extra_metrics = [&serving] { return serving.PrometheusText(); };
+  options.extra_metrics = [&serving, &capabilities] {
+    return serving.PrometheusText() + api::AnalysisMetricsText(capabilities.analysis.View(std::nullopt), capabilities.analysis.counters());
+  };
   options.max_body_bytes = static_cast<std::size_t>(o.max_body_bytes);
   options.max_pending_writes = o.max_pending_writes;
   api::HttpApi http(options);

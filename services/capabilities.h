@@ -1,10 +1,11 @@
 #pragma once
 // Every capability of the memory composed on one store: the options of each (defaults in their structs, settings
 // bound in services/<capability>/*_settings.cc) and the services built from them, wired to each other (scene models
-// hand their keyframes to the events service; where-is places things relative to furniture).
+// queue their keyframes' analyses for the events service; where-is places things relative to furniture).
 #include "schema/clock.h"
 #include "schema/settings.h"
 #include "services/audit/audit_service.h"
+#include "services/events/analysis_queue.h"
 #include "services/events/event_service.h"
 #include "services/furniture/furniture_service.h"
 #include "services/grid/grid_service.h"
@@ -20,6 +21,7 @@ struct CapabilityOptions {
   SceneLimits scene;
   MergeSettings merge;
   EventSettings events;
+  AnalysisQueueSettings analysis;
   FurnitureSettings furniture;
   JobSettings jobs;
 };
@@ -38,6 +40,7 @@ class Capabilities {
   SceneService scenes;
   FurnitureService furniture;
   EventService events;
+  AnalysisQueue analysis;  // keyframe analyses queued by `scenes`; its workers run after analysis.Start()
   JobService jobs;
   AuditService audit;
 };

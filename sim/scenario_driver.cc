@@ -111,7 +111,8 @@ json ScenarioDriver::Observe(const std::string& what, const Eigen::Isometry3d& X
     httplib::MultipartFormDataItems items = {
         {"depth", std::string(reinterpret_cast<const char*>(f.depth_mm.data()), f.depth_mm.size() * 2), "depth.raw", "application/octet-stream"}};
     if (person) items.push_back({"dynamic", MaskPng(mask, K.width, K.height), "dynamic.png", "image/png"});
-    const std::string path = base + "/frames?stamp=" + std::to_string(start_ns + i * 33'000'000LL);
+    // The driver reads the events each keyframe made: it waits for the keyframe's analysis (queued otherwise).
+    const std::string path = base + "/frames?wait_for_analysis=true&stamp=" + std::to_string(start_ns + i * 33'000'000LL);
     auto r = client_.Post(path, items);
     if (!r || r->status != 200) throw std::runtime_error("POST " + path + ": " + (r ? r->body : std::string("no response")));
     const json answer = json::parse(r->body);
@@ -121,7 +122,7 @@ json ScenarioDriver::Observe(const std::string& what, const Eigen::Isometry3d& X
       }
     }
   }
-  const json closed = Call("POST", base + ":close", json::object(), 200);
+  const json closed = Call("POST", base + ":close?wait_for_analysis=true", json::object(), 200);
   if (closed.contains("analysis")) {
     for (const json& e : closed["analysis"].value("events", json::array())) {
       Log("  end: event " + e["type"].get<std::string>() + " (" + e["detection"].get<std::string>() + ")");

@@ -12,6 +12,7 @@ void BindCapabilitySettings(SettingsBinder& b, CapabilityOptions& o) {
   BindGridSettings(b, o.limits, o.grid);
   BindSceneSettings(b, o.scene, o.merge);
   BindEventSettings(b, o.events);
+  BindAnalysisQueueSettings(b, o.analysis);
   BindFurnitureSettings(b, o.furniture);
   BindJobSettings(b, o.jobs);
 }
@@ -21,9 +22,10 @@ Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, co
       scenes(store, o.scene, o.merge, clock),
       furniture(store, o.furniture, clock),
       events(store, &furniture, o.events, clock),
+      analysis(store, events, o.analysis, clock),
       jobs(store, o.jobs, clock),
       audit(store, clock) {
-  scenes.SetKeyframeListener(&events);
+  scenes.SetKeyframeListener(&analysis);
 }
 
 }  // namespace anchordb::services

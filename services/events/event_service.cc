@@ -40,8 +40,8 @@ KeyframeSegments Segment(const KeyframeNotice& n, const std::optional<storage::K
   KeyframeSegments out;
   if (n.kind == "begin") {
     if (n.merged_scenes.empty()) return out;
-    const auto front = engine::InFrontOfBackground(*n.depth_mm, *n.background_mm, p);
-    out.front = engine::SegmentMask(front, *n.depth_mm, n.K, n.X_MapCamera, p);
+    const auto front = engine::InFrontOfBackground(n.depth_mm, n.background_mm, p);
+    out.front = engine::SegmentMask(front, n.depth_mm, n.K, n.X_MapCamera, p);
     return out;
   }
   if (!opening) return out;
@@ -50,11 +50,11 @@ KeyframeSegments Segment(const KeyframeNotice& n, const std::optional<storage::K
   out.action_layer = opening->action_layer;
   const std::size_t count = static_cast<std::size_t>(n.K.width) * n.K.height;
   const std::vector<std::uint16_t> before_mm = DecodeDepthMm(opening->depth, count);
-  const engine::ChangeMasks masks = engine::CompareKeyframes(before_mm, *n.depth_mm, *n.background_mm, n.K.width, n.K.height, p);
+  const engine::ChangeMasks masks = engine::CompareKeyframes(before_mm, n.depth_mm, n.background_mm, n.K.width, n.K.height, p);
   engine::ChangeParams no_clean = p;
   no_clean.clean = false;  // CompareKeyframes cleaned already
   out.removed = engine::SegmentMask(masks.removed, before_mm, n.K, n.X_MapCamera, no_clean);
-  out.added = engine::SegmentMask(masks.added, *n.depth_mm, n.K, n.X_MapCamera, no_clean);
+  out.added = engine::SegmentMask(masks.added, n.depth_mm, n.K, n.X_MapCamera, no_clean);
   return out;
 }
 
@@ -68,7 +68,7 @@ engine::ChangeSet Decide(const KeyframeNotice& n, const AnalysisInputs& in, cons
     k.stamp_ns = n.stamp_ns;
     k.before_keyframes = in.before_keyframes;
     k.front_segments = s.front;
-    k.depth_mm = *n.depth_mm;
+    k.depth_mm = n.depth_mm;
     k.K = n.K;
     k.X_MapCamera = n.X_MapCamera;
     k.change = p;
@@ -111,7 +111,7 @@ engine::EventRules EventService::Rules() const {
   return r;
 }
 
-KeyframeAnalysis EventService::OnKeyframe(const KeyframeNotice& n) {
+std::optional<KeyframeAnalysis> EventService::AnalyseKeyframe(const KeyframeNotice& n, const Claim& claim) {
   std::lock_guard<std::mutex> lock(MapMutex(n.map));
   engine::ChangeParams p = settings_.change;
   p.beta = n.beta;
@@ -143,14 +143,19 @@ KeyframeAnalysis EventService::OnKeyframe(const KeyframeNotice& n) {
     const Snapshot s = store_.Read(read);
     const engine::ChangeSet changes = decide(s);
     if (analysis_hook_) analysis_hook_(n.map);
-    if (Empty(changes)) return summary({}, changes);
+    // nullopt: another writer changed the instances (an empty change set does not depend on them).
+    bool claimed = true;
     auto written = store_.Write([&](storage::Connection& c) -> std::optional<std::vector<EventView>> {
-      if (!SameInputs(ReadAnalysisInputs(c, n), s.in)) return std::nullopt;  // another writer changed the instances
+      if (!Empty(changes) && !SameInputs(ReadAnalysisInputs(c, n), s.in)) return std::nullopt;
+      if (claim && !(claimed = claim(c))) return std::vector<EventView>{};
       return WriteChangeSet(c, n.map, changes, ById(s.in.records), clock_.NowNs());
     });
+    if (!claimed) return std::nullopt;
     if (written) return summary(std::move(*written), changes);
   }
-  return store_.Write([&](storage::Connection& c) {
+  ++analyses_in_write_;
+  return store_.Write([&](storage::Connection& c) -> std::optional<KeyframeAnalysis> {
+    if (claim && !claim(c)) return std::nullopt;
     const Snapshot s = read(c);
     const engine::ChangeSet changes = decide(s);
     return summary(WriteChangeSet(c, n.map, changes, ById(s.in.records), clock_.NowNs()), changes);

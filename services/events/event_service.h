@@ -1,7 +1,7 @@
 #pragma once
 // Change events, object instances over time and the lost-key question (thesis 3.3.4, 3.5.2, 1.4; SPEC §4.4).
 //
-// Every keyframe an observation stores is analysed here (the rules are in engine/events/keyframe_analysis.h): a
+// Every keyframe an observation stores is analysed here, from the analysis queue (analysis_queue.h) (the rules are in engine/events/keyframe_analysis.h): a
 // begin keyframe of a later visit finds what was added and removed meanwhile, every later keyframe what was added and
 // removed in the action layer it closes, and an observed addition may continue a labelled removal (the lost-key
 // rule). The heavy part (clustering, visibility) runs on a snapshot outside any write transaction; the short write
@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <array>
+#include <atomic>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -39,13 +40,17 @@ struct EventSettings {
   std::size_t max_label_length = 64;
 };
 
-class EventService : public KeyframeListener {
+class EventService {
  public:
   // `furniture` (may be null) places where-is answers against furniture graphs.
   EventService(storage::Store& store, FurnitureService* furniture, EventSettings settings,
                const Clock& clock = SystemClock::Instance());
 
-  KeyframeAnalysis OnKeyframe(const KeyframeNotice& notice) override;
+  // Runs in each write transaction of an analysis before it writes; false: write nothing (the queued analysis is gone).
+  using Claim = std::function<bool(storage::Connection&)>;
+  // Analyses one stored keyframe (services/events/analysis_queue.h runs them in order) and writes its change set with
+  // `claim` in one transaction. nullopt when the claim was refused (nothing written).
+  std::optional<KeyframeAnalysis> AnalyseKeyframe(const KeyframeNotice& notice, const Claim& claim = {});
 
   EventPage ListEvents(const std::string& map, const EventQuery& query);
   EventView GetEvent(const std::string& map, std::int64_t id);
@@ -70,6 +75,10 @@ class EventService : public KeyframeListener {
   // Applies a newer scene model's background to an old keyframe's raw depth (3.3.4): objects missed then.
   ReanalyseResult Reanalyse(const std::string& map, std::int64_t keyframe_id, const ReanalyseRequest& request);
 
+  // Keyframe analyses computed inside their write transaction (the optimistic attempts were all overtaken by other
+  // writers of the map's instances): while one runs, every other writer of the file waits.
+  std::int64_t analyses_in_write() const { return analyses_in_write_.load(); }
+
   // Tests only: runs between an analysis' computation and its write transaction (map id as argument).
   void SetAnalysisHookForTesting(std::function<void(const std::string& map)> hook) { analysis_hook_ = std::move(hook); }
 
@@ -84,6 +93,7 @@ class EventService : public KeyframeListener {
   EventSettings settings_;
   const Clock& clock_;
   std::function<void(const std::string&)> analysis_hook_;
+  std::atomic<std::int64_t> analyses_in_write_{0};
   // Analyses of one map run one at a time (instances are shared state; edits such as labels do not take it: the
   // analysis re-checks the instances in its write); maps hash onto a fixed set of mutexes, so
   // analyses of different maps run concurrently (unless two maps share a stripe) and no request can grow the set.

@@ -22,4 +22,19 @@ void BindEventSettings(SettingsBinder& b, EventSettings& e) {
          &e.removed_min_visible_points, 1, 1e6);
 }
 
+void BindAnalysisQueueSettings(SettingsBinder& b, AnalysisQueueSettings& a) {
+  b.Bind("analysis_threads", "worker threads running queued keyframe change analyses (one map's in keyframe order)",
+         &a.threads, 0, 64);
+  b.Bind("analysis_wait_max_s", "longest a request with wait_for_analysis=true waits for its keyframe's analysis [s]",
+         &a.wait_max_s, 0.0, 3600.0);
+  b.Bind("analysis_retry_initial_s", "backoff after a keyframe analysis' first failed attempt, doubling [s]",
+         &a.retry_initial_s, 0.001, 3600.0);
+  b.Bind("analysis_retry_max_s", "longest backoff between attempts of a failing keyframe analysis [s]", &a.retry_max_s,
+         0.001, 86400.0);
+  b.Bind("analysis_nice", "CPU niceness of the analysis workers (0: as the request threads; higher: requests go first)",
+         &a.nice, 0, 19);
+  b.Bind("analysis_max_attempts", "attempts before a keyframe analysis failing with a non-transient error is given up",
+         &a.max_attempts, 1, 1000000);
+}
+
 }  // namespace anchordb::services

@@ -159,7 +159,10 @@ bool SceneService::WriteFrame(const Model& m, FrameStep& s, const std::function<
   return store_.Write([&](storage::Connection& c) {
     if (precondition && !precondition(c)) return false;
     if (s.checkpoint) WriteCheckpoint(c, *s.checkpoint, m.record.state_version);
-    if (s.keyframe) s.keyframe_id = storage::InsertKeyframe(c, s.keyframe_record);
+    if (s.keyframe) {
+      s.keyframe_id = storage::InsertKeyframe(c, s.keyframe_record);
+      EnqueueAnalysis(c, m, s.keyframe_id);
+    }
     if (s.journal) storage::AppendJournalFrame(c, *s.journal);
     return true;
   });
@@ -180,7 +183,7 @@ FrameResult SceneService::FrameCommitted(Model& m, FrameStep& s) {
   out.pixels = m.last_counts;
   if (s.keyframe) {
     m.has_begin_keyframe = true;
-    out.keyframe = KeyframeStored(m, s.keyframe_id, *s.keyframe, s.stamp_ns, s.background_mm);
+    out.keyframe = KeyframeStored(m, s.keyframe_id, *s.keyframe);
   }
   return out;
 }

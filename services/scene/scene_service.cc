@@ -193,6 +193,7 @@ StoredKeyframe SceneService::StoreKeyframe(Model& m, KeyframeKind kind, std::int
   const std::string after = ModelAfterJson(m.last_counts, settle);
   const std::int64_t id = store_.Write([&](storage::Connection& c) {
     const std::int64_t inserted = storage::InsertKeyframe(c, k);
+    EnqueueAnalysis(c, m, inserted);
     // The detector after this keyframe survives a crash with the latest frame's row (none when it is not journalled).
     storage::UpdateJournalModelAfter(c, m.record.id, m.state.frames, after);
     if (also) also(c);
@@ -200,49 +201,40 @@ StoredKeyframe SceneService::StoreKeyframe(Model& m, KeyframeKind kind, std::int
   });
   m.settle = settle;
   if (committed) committed();
-  return KeyframeStored(m, id, kind, stamp_ns, background_mm);
+  return KeyframeStored(m, id, kind);
 }
 
-StoredKeyframe SceneService::KeyframeStored(Model& m, std::int64_t keyframe_id, KeyframeKind kind, std::int64_t stamp_ns,
-                                            const std::vector<std::uint16_t>& background_mm) {
+void SceneService::EnqueueAnalysis(storage::Connection& c, const Model& m, std::int64_t keyframe_id) {
+  if (listener_) listener_->Enqueue(c, {m.record.map_id, m.record.id, keyframe_id, clock_.NowNs()});
+}
+
+// The keyframe and its queued analysis committed: the analysis may start; the answer does not wait for it.
+StoredKeyframe SceneService::KeyframeStored(Model& m, std::int64_t keyframe_id, KeyframeKind kind) {
   StoredKeyframe out;
   out.id = keyframe_id;
   out.kind = kind;
   out.action_layer = m.next_action_layer;
   ++m.next_action_layer;
-  try {
-    out.analysis = Analyse(m, out, stamp_ns, background_mm);
-  } catch (const Error& e) {
-    // The keyframe is committed; its analysis could not be read or written now (the disk fails or is full, memory
-    // ran out). The answer goes without an analysis rather than an error that would make the client send again
-    // what is stored already.
-    if (e.code() != ErrorCode::kUnavailable && e.code() != ErrorCode::kInsufficientStorage) throw;
+  if (listener_) {
+    listener_->Enqueued(m.record.map_id);
+    out.analysis = KeyframeAnalysisStatus{AnalysisState::kPending, keyframe_id, std::nullopt, 0, std::nullopt};
   }
   return out;
 }
 
-// The one place the keyframe listener is called; its summary goes into the response as it is.
-std::optional<KeyframeAnalysis> SceneService::Analyse(const Model& m, const StoredKeyframe& k, std::int64_t stamp_ns,
-                                                      const std::vector<std::uint16_t>& background_mm) {
-  if (!listener_) return std::nullopt;
-  KeyframeNotice n;
-  n.map = m.record.map_id;
-  n.scene_id = m.record.id;
-  n.keyframe_id = k.id;
-  n.kind = NameOf(kKeyframeKindNames, k.kind);
-  n.stamp_ns = stamp_ns;
-  n.action_layer = k.action_layer;
-  n.K = m.K;
-  n.beta = m.params.model.beta;
-  const auto& corrected = m.merge.X_MapCamera_corrected;
-  n.X_MapCamera = engine::ToIsometry(corrected ? json::AsPose3(docs::PoseDocument(*corrected), "pose") : StoredPose(m.record.pose_json));
-  for (const MergedModel& used : m.merge.models_used) n.merged_scenes.push_back(used.scene_id);
-  n.depth_mm = &m.last_depth_mm;
-  n.background_mm = &background_mm;
-  return listener_->OnKeyframe(n);
+// Called with no model lock held: the analysis never waits for the model, and nothing the model's readers need waits
+// for the analysis.
+void SceneService::AwaitAnalysis(std::optional<StoredKeyframe>& k) {
+  if (k && k->analysis && listener_) k->analysis = listener_->Await(k->id);
 }
 
 FrameResult SceneService::AddFrame(const std::string& map, std::int64_t id, const FrameInput& in) {
+  FrameResult out = AddFrameLocked(map, id, in);
+  if (in.wait_for_analysis) AwaitAnalysis(out.keyframe);
+  return out;
+}
+
+FrameResult SceneService::AddFrameLocked(const std::string& map, std::int64_t id, const FrameInput& in) {
   auto [model, lock] = Lock(map, id);
   Model& m = *model;
   RequireObserving(m.record, "", "; open a new one");
@@ -265,14 +257,25 @@ FrameResult SceneService::AddFrame(const std::string& map, std::int64_t id, cons
   }
 }
 
-KeyframeResult SceneService::Keyframe(const std::string& map, std::int64_t id) {
-  auto [model, lock] = Lock(map, id);
-  RequireObserving(model->record);
-  const std::int64_t stamp = model->record.last_frame_ns.value_or(clock_.NowNs());
-  return {id, StoreKeyframe(*model, KeyframeKind::kManual, stamp)};
+KeyframeResult SceneService::Keyframe(const std::string& map, std::int64_t id, bool wait_for_analysis) {
+  std::optional<StoredKeyframe> stored;
+  {
+    auto [model, lock] = Lock(map, id);
+    RequireObserving(model->record);
+    const std::int64_t stamp = model->record.last_frame_ns.value_or(clock_.NowNs());
+    stored = StoreKeyframe(*model, KeyframeKind::kManual, stamp);
+  }
+  if (wait_for_analysis) AwaitAnalysis(stored);
+  return {id, std::move(*stored)};
 }
 
-CloseResult SceneService::Close(const std::string& map, std::int64_t id) {
+CloseResult SceneService::Close(const std::string& map, std::int64_t id, bool wait_for_analysis) {
+  CloseResult out = CloseLocked(map, id);
+  if (wait_for_analysis) AwaitAnalysis(out.keyframe);
+  return out;
+}
+
+CloseResult SceneService::CloseLocked(const std::string& map, std::int64_t id) {
   auto [model, lock] = Lock(map, id);
   Model& m = *model;
   RequireObserving(m.record, "already ");
@@ -294,7 +297,7 @@ CloseResult SceneService::Close(const std::string& map, std::int64_t id) {
     models_.erase(id);
   };
   if (!m.last_depth_mm.empty()) {
-    out.keyframe = StoreKeyframe(m, KeyframeKind::kEnd, end, finish, closed);  // analysed once closed
+    out.keyframe = StoreKeyframe(m, KeyframeKind::kEnd, end, finish, closed);  // its analysis queued with the close
   } else {
     store_.Write(finish);
     closed();

@@ -52,7 +52,9 @@ class SceneService {
   // Opens a model at the request's camera pose and chooses the earlier models its first frame will merge.
   SceneInfo Open(const std::string& map, const OpenSceneRequest& request);
   // Applies a frame (the first one merges the chosen earlier models); stores the begin keyframe with the first frame
-  // and a settled keyframe when a movement completed.
+  // and a settled keyframe when a movement completed. A stored keyframe's change analysis is queued in the frame's
+  // transaction and runs later (its `analysis` is pending), unless frame.wait_for_analysis: then the answer waits
+  // for it, at most the listener's bound, with no lock held.
   FrameResult AddFrame(const std::string& map, std::int64_t id, const FrameInput& frame);
   SceneInfo Get(const std::string& map, std::int64_t id);
   // A layer as PNG (static: 16-bit mm; movable, dynamic: 8-bit mask; reliability: 8-bit weight, clamped at 255) or
@@ -61,16 +63,17 @@ class SceneService {
   ExportedLayer Layer(const std::string& map, std::int64_t id, SceneLayerKind layer, SceneLayerEncoding encoding,
                       bool clean);
   SceneLayerSummary LayerSummary(const std::string& map, std::int64_t id, SceneLayerKind layer, bool clean);
-  // Stores a manual keyframe of the latest frame (kConflict when none arrived since the model was loaded).
-  KeyframeResult Keyframe(const std::string& map, std::int64_t id);
-  // Ends the observation: an end keyframe, the state persisted, status closed.
-  CloseResult Close(const std::string& map, std::int64_t id);
+  // Stores a manual keyframe of the latest frame (kConflict when none arrived since the model was loaded); its
+  // analysis as for AddFrame.
+  KeyframeResult Keyframe(const std::string& map, std::int64_t id, bool wait_for_analysis = false);
+  // Ends the observation: an end keyframe (its analysis as for AddFrame), the state persisted, status closed.
+  CloseResult Close(const std::string& map, std::int64_t id, bool wait_for_analysis = false);
   std::vector<SceneInfo> List(const std::string& map, const SceneListFilter& filter);
   KeyframeInfo GetKeyframe(const std::string& map, std::int64_t id);
   // A keyframe's raw depth or static background as 16-bit PNG [mm].
   ExportedLayer KeyframeImage(const std::string& map, std::int64_t id, KeyframeImageKind which);
 
-  // Receives every stored keyframe (the event layer); not owned, may be null.
+  // Queues the analysis of every stored keyframe (the event layer's queue); not owned, may be null.
   void SetKeyframeListener(KeyframeListener* listener) { listener_ = listener; }
 
   // Writes every in-memory model whose state changed since its last checkpoint.
@@ -89,15 +92,18 @@ class SceneService {
   void Evict(Model& model);
   std::shared_ptr<Model> Load(const std::string& map, std::int64_t id);
   void Persist(Model& model);
-  // Stores a keyframe of the latest frame; `also` runs in the same write transaction, `committed` after it, before the
-  // keyframe is analysed.
+  // Stores a keyframe of the latest frame and queues its analysis; `also` runs in the same write transaction,
+  // `committed` after it.
   StoredKeyframe StoreKeyframe(Model& model, KeyframeKind kind, std::int64_t stamp_ns,
                                const std::function<void(storage::Connection&)>& also = {},
                                const std::function<void()>& committed = {});
-  StoredKeyframe KeyframeStored(Model& model, std::int64_t keyframe_id, KeyframeKind kind, std::int64_t stamp_ns,
-                                const std::vector<std::uint16_t>& background_mm);
-  std::optional<KeyframeAnalysis> Analyse(const Model& model, const StoredKeyframe& keyframe, std::int64_t stamp_ns,
-                                          const std::vector<std::uint16_t>& background_mm);
+  StoredKeyframe KeyframeStored(Model& model, std::int64_t keyframe_id, KeyframeKind kind);
+  // Queues the analysis of a keyframe inserted in this transaction (nothing without a listener).
+  void EnqueueAnalysis(storage::Connection& c, const Model& model, std::int64_t keyframe_id);
+  // Waits (no lock held) for the analysis of the keyframe a request stored, bounded by the listener's setting.
+  void AwaitAnalysis(std::optional<StoredKeyframe>& keyframe);
+  FrameResult AddFrameLocked(const std::string& map, std::int64_t id, const FrameInput& frame);
+  CloseResult CloseLocked(const std::string& map, std::int64_t id);
   SceneInfo Describe(const Model& model) const;
   std::vector<engine::MergeCandidate> SelectCandidates(const std::string& map, const OpenSceneRequest& request,
                                                        std::int64_t stamp_ns);

@@ -121,7 +121,7 @@ struct SceneService::FrameStep {
   std::optional<KeyframeKind> keyframe;     // the begin or a settled keyframe this frame stores
   storage::KeyframeRecord keyframe_record;  // when `keyframe`
   std::int64_t keyframe_id = 0;             // set by WriteFrame
-  std::vector<std::uint16_t> background_mm; // when `keyframe`, for its analysis
+  std::vector<std::uint16_t> background_mm; // when `keyframe`: what its record stores
   std::optional<storage::SceneRecord> checkpoint;
   std::optional<storage::JournalFrame> journal;
 };

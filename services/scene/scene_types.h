@@ -33,6 +33,8 @@ inline const EnumNames<SceneStatus> kSceneStatusNames = {
     {SceneStatus::kObserving, "observing"}, {SceneStatus::kClosed, "closed"}, {SceneStatus::kSuperseded, "superseded"}};
 inline const EnumNames<KeyframeKind> kKeyframeKindNames = {{KeyframeKind::kBegin, "begin"}, {KeyframeKind::kManual, "manual"},
                                                            {KeyframeKind::kSettled, "settled"}, {KeyframeKind::kEnd, "end"}};
+inline const EnumNames<AnalysisState> kAnalysisStateNames = {{AnalysisState::kPending, "pending"}, {AnalysisState::kDone, "done"},
+                                                             {AnalysisState::kFailed, "failed"}, {AnalysisState::kSkipped, "skipped"}};
 inline const EnumNames<SceneLayerKind> kSceneLayerNames = {{SceneLayerKind::kStatic, "static"}, {SceneLayerKind::kMovable, "movable"},
                                                            {SceneLayerKind::kDynamic, "dynamic"},
                                                            {SceneLayerKind::kReliability, "reliability"}};
@@ -162,13 +164,14 @@ struct FrameInput {
   std::optional<std::string_view> dynamic_png;  // 8-bit mask
   std::optional<std::int64_t> stamp_ns;         // nullopt: now
   std::optional<double> depth_scale;            // units per metre, overrides the model's
+  bool wait_for_analysis = false;               // a keyframe it stores: answer with its analysis (KeyframeListener::Await)
 };
 
 struct StoredKeyframe {
   std::int64_t id = 0;
   KeyframeKind kind = KeyframeKind::kBegin;
   std::int64_t action_layer = 0;             // the layer this keyframe opens
-  std::optional<KeyframeAnalysis> analysis;  // nullopt without a listener
+  std::optional<KeyframeAnalysisStatus> analysis;  // nullopt without a listener; else pending unless waited for
 };
 
 struct FrameResult {

@@ -4,7 +4,7 @@ against what the restarted server answers, the jobs' outcomes."""
 import collections
 import os
 
-from crash_load import Connection, harness, ok
+from crash_load import CAMERA, FRAMES, Connection, harness, ok
 
 
 class Check:
@@ -69,7 +69,27 @@ class Check:
                         "instance %s/%d: label %s, acknowledged %s" % (key + (top, sorted(state["labels"]))))
             self.expect("pins", inst["pinned"] in state["pinned"], state["pin_acks"],
                         "instance %s/%d: pinned %s, acknowledged %s" % (key + (inst["pinned"], state["pinned"])))
+        self.analyses()
         return self.jobs()
+
+    def analyses(self):
+        """Every acknowledged keyframe (except the forgetting's targets) that is still stored has its change analysis
+        written: the analyses of a map run in keyframe order, so once a new keyframe of the map, posted with
+        wait_for_analysis=true, says done, the map's queue must be empty and have no failures."""
+        by_map = collections.defaultdict(list)
+        for key in self.trial.keyframes:
+            by_map[key[0]].append(key)
+        for m, keys in sorted(by_map.items()):
+            present = [key for key in keys if self.get("/v1/maps/%s/keyframes/%d" % key) is not None]
+            scene = self.conn.call("POST", "/v1/maps/%s/scenes" % m, {
+                "camera": CAMERA, "pose": {"position": [9.0, 0.0, 1.0], "orientation": [0, 0, 0, 1]}, "merge": False})
+            waited = ok(scene) and self.conn.call(
+                "POST", "/v1/maps/%s/scenes/%d/frames?wait_for_analysis=true" % (m, scene[1]["id"]), FRAMES[0])
+            state = waited[1].get("analysis", {}).get("state") if ok(waited) else None
+            queue = self.get("/v1/maps/%s/analysis" % m)
+            good = state == "done" and queue is not None and queue["depth"] == 0 and queue["failed"] == 0
+            self.expect("analyses", good, len(present),
+                        "map %s: analyses not all done after the restart (waited keyframe %s, queue %s)" % (m, state, queue))
 
     def jobs(self):
         """Job outcomes: (summary text, problems)."""

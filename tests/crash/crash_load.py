@@ -16,7 +16,7 @@ sys.path[:0] = [os.path.join(ROOT, "clients", "python"), os.path.join(ROOT, "tes
 import anchordb_client  # noqa: E402  (the multipart encoder)
 import harness  # noqa: E402  (the synthetic map, poses)
 
-KINDS = ("maps", "layers", "obs", "frames", "keyframes", "labels", "pins", "instances")
+KINDS = ("maps", "layers", "obs", "frames", "keyframes", "analyses", "labels", "pins", "instances")
 W, H = 64, 48
 CAMERA = {"width": W, "height": H, "fx": 50.0, "fy": 50.0, "cx": 31.5, "cy": 23.5}
 MAP = harness.SyntheticMap(40, 30, 0.1, walls=[(20, 1, 20, 15)])
@@ -211,6 +211,7 @@ def keyframe_of(trial, key, answer, old=False):
                 trial.old_keyframes.add(kf)
             else:
                 trial.keyframes.setdefault(kf, {"pinned": False})
+                trial.acked["analyses"] += 1  # its change analysis, queued with it (crash_check.Check.analyses)
             trial.acked["keyframes"] += 1
         return kf
     return None

@@ -168,7 +168,7 @@ TEST_F(EventsHttpTest, ReanalysisOfAnOldKeyframeFindsAnObjectThatWasBackgroundTh
       ASSERT_TRUE(r && r->status == 200) << (r ? r->body : "");
       if (visit == 0 && i == 0) first_begin = json::parse(r->body)["keyframe"].get<std::int64_t>();
     }
-    Ok("POST", base + ":close");
+    Ok("POST", base + ":close?wait_for_analysis=true");  // its analysis written before the checks below
   }
   // Nothing was seen to change: no events yet.
   EXPECT_TRUE(Ok("GET", "/v1/maps/home/events")["events"].empty());

@@ -1,5 +1,6 @@
-// EventService with SceneService on one Store, without HTTP: a keyframe analysis of one map in flight does not hold
-// up writes of another map, and an analysis whose inputs another writer changed meanwhile is computed again.
+// EventService with SceneService and the analysis queue on one Store, without HTTP: a keyframe analysis of one map
+// in flight does not hold up writes and analyses of another map, and an analysis whose inputs another writer changed
+// meanwhile is computed again.
 #include "services/events/event_service.h"
 
 #include <gtest/gtest.h>
@@ -9,22 +10,18 @@
 #include <future>
 #include <thread>
 
+#include "services/events/analysis_queue.h"
 #include "services/scene/scene_service.h"
 #include "storage/repositories.h"
 #include "storage/scene_repository.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/wall_and_box.h"
 
 namespace anchordb::services {
 namespace {
 
-constexpr int kW = 160, kH = 120;
 
-// A wall 2 m in front of the camera, with a box at 1.5 m where `box` says.
-std::vector<std::uint16_t> Depth(bool box) {
-  std::vector<std::uint16_t> d(kW * kH, 2000);
-  if (box) for (int v = 40; v < 80; ++v) for (int u = 60; u < 100; ++u) d[v * kW + u] = 1500;
-  return d;
-}
+std::vector<std::uint16_t> Depth(bool box) { return testing::WallDepthMm(box); }
 
 class EventServiceTest : public ::testing::Test {
  protected:
@@ -38,9 +35,13 @@ class EventServiceTest : public ::testing::Test {
     });
     scenes_ = std::make_unique<SceneService>(*store_, SceneLimits{});
     events_ = std::make_unique<EventService>(*store_, nullptr, EventSettings{});
-    scenes_->SetKeyframeListener(events_.get());
+    AnalysisQueueSettings q;
+    q.threads = 2;  // workers only where a test starts them; two, so that two maps' analyses can overlap
+    queue_ = std::make_unique<AnalysisQueue>(*store_, *events_, q);
+    scenes_->SetKeyframeListener(queue_.get());
   }
   void TearDown() override {
+    queue_.reset();
     scenes_.reset();
     events_.reset();
     store_.reset();
@@ -48,16 +49,13 @@ class EventServiceTest : public ::testing::Test {
   // The scene calls of these tests (one place to adapt when the scene service's requests change).
   std::int64_t OpenScene(const std::string& map) {
     OpenSceneRequest r;
-    r.camera = {kW, kH, 130.0, 130.0, 79.5, 59.5};
+    r.camera = testing::WallCamera();
     r.stamp_ns = 1'000'000'000'000LL;
     return scenes_->Open(map, r).id;
   }
-  FrameResult AddFrame(const std::string& map, std::int64_t scene, const std::vector<std::uint16_t>& depth, std::int64_t stamp_ns) {
-    FrameInput in;
-    in.body = std::string_view(reinterpret_cast<const char*>(depth.data()), depth.size() * 2);
-    in.png = false;
-    in.stamp_ns = stamp_ns;
-    return scenes_->AddFrame(map, scene, in);
+  FrameResult AddFrame(const std::string& map, std::int64_t scene, const std::vector<std::uint16_t>& depth, std::int64_t stamp_ns,
+                       bool wait_for_analysis = false) {
+    return scenes_->AddFrame(map, scene, testing::RawFrame(depth, stamp_ns, wait_for_analysis));
   }
   std::size_t Keyframes(const std::string& map, std::int64_t scene) {
     return store_->Read([&](storage::Connection& c) { return storage::ListKeyframes(c, map, scene).size(); });
@@ -67,9 +65,10 @@ class EventServiceTest : public ::testing::Test {
   std::unique_ptr<storage::Store> store_;
   std::unique_ptr<SceneService> scenes_;
   std::unique_ptr<EventService> events_;
+  std::unique_ptr<AnalysisQueue> queue_;
 };
 
-TEST_F(EventServiceTest, AFrameOfAnotherMapCommitsWhileAKeyframeAnalysisIsInFlight) {
+TEST_F(EventServiceTest, AnotherMapsFrameAndAnalysisCompleteWhileAKeyframeAnalysisIsInFlight) {
   std::promise<void> entered, release;
   std::shared_future<void> released = release.get_future().share();
   std::atomic<bool> blocked_once{false};
@@ -78,20 +77,24 @@ TEST_F(EventServiceTest, AFrameOfAnotherMapCommitsWhileAKeyframeAnalysisIsInFlig
     entered.set_value();
     released.wait();
   });
+  queue_->Start();
   const std::int64_t a = OpenScene("a"), b = OpenScene("b");
-  // Map a's first frame stores its begin keyframe, whose analysis stops before its write transaction.
-  std::future<FrameResult> frame_a = std::async(std::launch::async, [&] { return AddFrame("a", a, Depth(false), 1'000'000'000'100LL); });
-  ASSERT_EQ(entered.get_future().wait_for(std::chrono::seconds(30)), std::future_status::ready);
-  // Meanwhile map b's first frame: its keyframe (a write) and the keyframe's analysis.
-  std::future<FrameResult> frame_b = std::async(std::launch::async, [&] { return AddFrame("b", b, Depth(false), 1'000'000'000'100LL); });
-  const bool b_committed = frame_b.wait_for(std::chrono::seconds(20)) == std::future_status::ready;
-  release.set_value();  // before asserting, so that both threads finish
-  ASSERT_TRUE(b_committed) << "a write on map b waited for the analysis of map a";
-  EXPECT_TRUE(frame_b.get().keyframe.has_value());
-  EXPECT_EQ(Keyframes("b", b), 1u);
-  const FrameResult out_a = frame_a.get();
+  // Map a's first frame stores its begin keyframe and answers at once; its analysis (a worker) stops before its write.
+  const FrameResult out_a = AddFrame("a", a, Depth(false), 1'000'000'000'100LL);
   ASSERT_TRUE(out_a.keyframe.has_value());
-  EXPECT_TRUE(out_a.keyframe->analysis.has_value());
+  ASSERT_TRUE(out_a.keyframe->analysis.has_value());
+  EXPECT_EQ(out_a.keyframe->analysis->state, AnalysisState::kPending);
+  ASSERT_EQ(entered.get_future().wait_for(std::chrono::seconds(30)), std::future_status::ready);
+  // Meanwhile map b's first frame: its keyframe (a write) and, waited for, the keyframe's analysis (the other worker).
+  std::future<FrameResult> frame_b = std::async(std::launch::async, [&] { return AddFrame("b", b, Depth(false), 1'000'000'000'100LL, true); });
+  const bool b_done = frame_b.wait_for(std::chrono::seconds(20)) == std::future_status::ready;
+  release.set_value();  // before asserting, so that both threads finish
+  ASSERT_TRUE(b_done) << "a write and analysis on map b waited for the analysis of map a";
+  const FrameResult out_b = frame_b.get();
+  ASSERT_TRUE(out_b.keyframe.has_value());
+  EXPECT_EQ(out_b.keyframe->analysis->state, AnalysisState::kDone);
+  EXPECT_EQ(Keyframes("b", b), 1u);
+  EXPECT_EQ(queue_->Await(out_a.keyframe->id).state, AnalysisState::kDone);
 }
 
 TEST_F(EventServiceTest, AnAnalysisWhoseInstancesChangedMeanwhileIsComputedAgain) {
@@ -106,13 +109,18 @@ TEST_F(EventServiceTest, AnAnalysisWhoseInstancesChangedMeanwhileIsComputedAgain
     events_->PinInstance("a", cup_id, true);  // another writer changes the map's instances before the write
   });
   const std::int64_t a = OpenScene("a");
-  AddFrame("a", a, Depth(false), 1'000'000'000'100LL);  // begin keyframe: analysis 1
+  AddFrame("a", a, Depth(false), 1'000'000'000'100LL);  // begin keyframe: analysis 1 (queued)
+  EXPECT_EQ(analyses, 0);
+  EXPECT_EQ(queue_->Drain(), 1);
   EXPECT_EQ(analyses, 1);
   AddFrame("a", a, Depth(true), 1'000'000'000'200LL);
-  const KeyframeResult keyframe = scenes_->Keyframe("a", a);  // closes action layer 0: analysis 2, changed, analysis 3
+  // Closes action layer 0: analysis 2, changed, analysis 3 (the queue runs in this thread: no worker was started).
+  const KeyframeResult keyframe = scenes_->Keyframe("a", a, true);
   EXPECT_EQ(analyses, 3);
   ASSERT_TRUE(keyframe.keyframe.analysis.has_value());
-  const KeyframeAnalysis& analysis = *keyframe.keyframe.analysis;
+  ASSERT_EQ(keyframe.keyframe.analysis->state, AnalysisState::kDone);
+  ASSERT_TRUE(keyframe.keyframe.analysis->result.has_value());
+  const KeyframeAnalysis& analysis = *keyframe.keyframe.analysis->result;
   ASSERT_EQ(analysis.events.size(), 1u);
   EXPECT_EQ(analysis.events[0].type, "added");
   EXPECT_EQ(analysis.action_layer, 0);
