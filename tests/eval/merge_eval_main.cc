@@ -209,7 +209,7 @@ int main(int argc, char** argv) {
                 "and seeds): within theta of the object's own background (Algorithm 1 cannot see it), in front of "
                 "background no earlier viewpoint measured, movable but cleaned away, else the merge's decision at the pixel:\n");
     static constexpr const char* kDecisionNames[kDecisions] = {"none", "fill", "supp", "near", "fov", "occl", "nbhd",
-                                                               "notsee", "farther", "dropout", "rear", "rearnb"};
+                                                               "notsee", "farther", "dropout", "rear", "rearnb", "uncert"};
     std::printf("%-4s %6s %6s %6s %6s", "case", "FN", "theta", "unk", "clean");
     for (const char* d : kDecisionNames) std::printf(" %7s", d);
     std::printf("\n");

@@ -17,6 +17,15 @@
 namespace anchordb::engine {
 namespace {
 
+// The scenes are rendered from the poses the merge is given: it is told so (1 mm, 0.03 deg), as a client would.
+const Matrix6d kExactPose = PoseCovarianceFromSigma(0.001, 0.0005);
+
+MergeParams ExactPoses() {
+  MergeParams params;
+  params.current_pose_covariance_map = kExactPose;
+  return params;
+}
+
 constexpr int kObject1 = 11, kObject2 = 12, kObject3 = 13, kObject4 = 14;
 
 // Adds an axis-aligned box (object `id`, created on first use) to the scene.
@@ -41,6 +50,7 @@ PriorModel ObservedFrom(const sim::Scene& scene, const PinholeIntrinsics& K, con
   prior.K = K;
   prior.X_MapCamera = X_A;
   prior.background_m = a.background_m;
+  prior.pose_covariance_map = kExactPose;
   return prior;
 }
 
@@ -81,7 +91,7 @@ TEST(MergePremisesTest, Figure39Situations) {
   SceneModelState b = NewSceneModel(K.width, K.height);
   const sim::Scene now = Room(true, true);
   const sim::Frame first = sim::Render(now, K, X_B, sensor, 50);
-  const MergeResult merged = MergeAndApplyFirstFrame(b, first.depth_mm, 1000.0, {}, {}, K, X_B, {prior}, MergeParams{});
+  const MergeResult merged = MergeAndApplyFirstFrame(b, first.depth_mm, 1000.0, {}, {}, K, X_B, {prior}, ExactPoses());
   sim::Frame last = first;
   for (int i = 1; i < 6; ++i) {
     last = sim::Render(now, K, X_B, sensor, 50 + i);
@@ -114,7 +124,7 @@ TEST(MergePremisesTest, Figure39Situations) {
 
   // The naive strategy on the same input marks structures A never saw (object 3, the panel's side) as movable
   // or misses object 4; it must do worse on the static objects or on object 4.
-  MergeParams naive;
+  MergeParams naive = ExactPoses();
   naive.strategy = MergeStrategy::kNaive;
   SceneModelState n = NewSceneModel(K.width, K.height);
   MergeAndApplyFirstFrame(n, first.depth_mm, 1000.0, {}, {}, K, X_B, {prior}, naive);
@@ -154,7 +164,7 @@ TEST(MergePremisesTest, RearProjectionStopsWhereTheEarlierCameraSawNoMore) {
   SceneModelState b = NewSceneModel(K.width, K.height);
   const sim::Frame first = sim::Render(room(true), K, X_B, sensor, 50);
   const sim::Frame behind = sim::Render(room(false), K, X_B, sensor, 50);  // what B would see without object 5
-  MergeParams params;
+  MergeParams params = ExactPoses();
   params.record_decisions = true;
   const MergeResult merged = MergeAndApplyFirstFrame(b, first.depth_mm, 1000.0, {}, {}, K, X_B, {prior}, params);
   std::size_t pixels = 0, movable = 0, rear = 0, before_wall = 0, at_far = 0;
