@@ -55,7 +55,7 @@ SweepScene Cluttered(std::uint64_t seed) {
   b.scene() = setting.scene;
   SweepScene out;
   out.before = b.scene();
-  AddAddedBox(b, jitter, setting.surface_point_m, {0.12, 0.14});
+  AddAddedBox(b, jitter, setting.surface_point_m, {-0.02, 0.12});
   out.after = std::move(b.scene());
   out.added_id = kAddedId;
   out.X_WorldCameraA = setting.X_WorldCameraA;

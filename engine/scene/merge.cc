@@ -201,14 +201,8 @@ void MergeOne(const PriorModel& prior, const std::vector<float>& s_u, const Eige
       }
       const float theta = beta * sv;
       const Eigen::Vector3d ray = PixelRay(K, u, v);
-      // Line 3-4: the same surface within theta, and within what the pose uncertainty moves the earlier surface
-      // under this pixel (its point along z and, on a slanted surface, sideways).
-      bool same = su > 0.0f && std::abs(su - sv) < theta;
-      if (!same && su > 0.0f) {
-        const Eigen::Vector3d p_u = ray * static_cast<double>(su);
-        const double sigma = uncertainty.Slanted(PoseUncertainty::InCurrent(p_u), p_u, K, su_slope.du[i], su_slope.dv[i]);
-        same = std::abs(su - sv) < std::hypot(static_cast<double>(theta), k * sigma);
-      }
+      // Line 3-4 (the pose uncertainty enters below: a surface the error moved farther fails premise 2's margin).
+      const bool same = su > 0.0f && std::abs(su - sv) < theta;
       if (same) {
         w[i] += 1.0f;
         ++report.supported;
@@ -229,7 +223,8 @@ void MergeOne(const PriorModel& prior, const std::vector<float>& s_u, const Eige
         continue;
       }
       const Motion A_C = PoseUncertainty::InCurrent(p_C), A_E = uncertainty.InEarlier(p_C);
-      const double px_E = k * uncertainty.Pixels(A_E, p_prior, Kp), px_C = k * uncertainty.Pixels(A_C, p_C, K);
+      const double px_E = k * uncertainty.Pixels(A_E, p_prior, Kp), sigma_px_C = uncertainty.Pixels(A_C, p_C, K);
+      const double px_C = k * sigma_px_C;
       if (std::max(px_E, px_C) > params.max_pose_tolerance_px) {
         ++report.rejected_uncertain;
         decide(i, MergeDecision::kRejectedUncertain);
@@ -266,8 +261,9 @@ void MergeOne(const PriorModel& prior, const std::vector<float>& s_u, const Eige
         continue;
       }
       // Premise 3: the transformed model has points at this depth nearby: within neighbourhood_px as in the thesis,
-      // and within the point's displacement in the current image (sampled sparsely) where an earlier surface,
-      // continued along its slope, passes the pixel within theta and the point's z uncertainty.
+      // and within neighbourhood_sigma_factor sigmas of the point's displacement in the current image (sampled
+      // sparsely) where an earlier surface, continued along its slope, passes the pixel within theta and the point's
+      // z uncertainty.
       bool neighbour = false;
       for (int dv = -r; dv <= r && !neighbour; ++dv) {
         for (int du = -r; du <= r && !neighbour; ++du) {
@@ -277,7 +273,7 @@ void MergeOne(const PriorModel& prior, const std::vector<float>& s_u, const Eige
           neighbour = q > 0.0f && std::abs(q - sv) < theta;
         }
       }
-      const int reach = static_cast<int>(std::ceil(px_C));
+      const int reach = static_cast<int>(std::ceil(params.neighbourhood_sigma_factor * sigma_px_C));
       if (!neighbour && reach > r) {
         const double tol = std::hypot(static_cast<double>(theta), k * uncertainty.Z(A_C));
         const int stride = std::max(1, reach / 4);
@@ -288,6 +284,9 @@ void MergeOne(const PriorModel& prior, const std::vector<float>& s_u, const Eige
             const std::size_t q = static_cast<std::size_t>(vv) * K.width + uu;
             if (s_u[q] <= 0.0f) continue;
             const double continued = s_u[q] - su_slope.du[q] * du - su_slope.dv[q] * dv;
+            // Only a surface other than the one the earlier model shows at this pixel (an edge the error may have
+            // shifted over it): the surface behind a new object, continued, is no evidence against it.
+            if (su > 0.0f && std::abs(continued - su) < beta * su) continue;
             neighbour = std::abs(continued - sv) < tol;
           }
         }

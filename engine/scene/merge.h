@@ -48,8 +48,12 @@ struct MergeParams {
   // theta (+) that of the current one, premise 1 keeps that far inside the earlier field of view, premise 2 (and the
   // rear projection) requires the earlier camera to have seen nothing at or before the point within that window
   // (radius 2 to 32 px; at least occlusion_px where the earlier pixel itself has no depth) and that margin behind
-  // the point, premise 3 looks that far (at least neighbourhood_px) for earlier points at the same depth.
+  // the point.
   double pose_sigma_factor = 2.5;
+  // Premise 3 looks this many sigmas of the point's displacement far (at least neighbourhood_px): it only adds to
+  // premise 2, which already holds the point's whole (k-sigma) displacement in the earlier image against what that
+  // camera saw; wider, it rejects new objects standing next to known ones.
+  double neighbourhood_sigma_factor = 1.0;
   // A pixel whose point moves farther than this in an image (k sigma) is not decided from the earlier model (its
   // windows would exceed the largest, 32 px); an earlier model whose median k-sigma displacement exceeds it is not
   // merged at all (MergeModelReport::fallback): the merge is never worse than a fresh model.

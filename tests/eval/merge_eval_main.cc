@@ -84,7 +84,9 @@ int main(int argc, char** argv) {
     }
   }
   if (sweep) {
-    eval::PrintSweepTable(sweep_scenes, sweep_levels, seeds_given ? seeds : 10, {});
+    eval::SweepOptions sweep_options;
+    sweep_options.pose_sigma_factor = options.pose_sigma_factor;
+    eval::PrintSweepTable(sweep_scenes, sweep_levels, seeds_given ? seeds : 10, sweep_options);
     return 0;
   }
   constexpr double kDeg = std::numbers::pi / 180.0;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <numbers>
 
 #include "engine/scene/merge.h"
@@ -43,7 +44,7 @@ struct Viewpoint {
 
 class Runner {
  public:
-  Runner(const PinholeIntrinsics& K, SweepRun& run) : K_(K), run_(run) {}
+  Runner(const PinholeIntrinsics& K, const SweepOptions& options, SweepRun& run) : K_(K), options_(options), run_(run) {}
 
   // A model at `at` from `frames`, the first merged with the earlier models (`earlier`, their models) by `strategy`.
   engine::SceneModelState Observe(SweepStrategy strategy, const Frames& frames, const Viewpoint& at,
@@ -55,6 +56,7 @@ class Runner {
       priors.push_back({static_cast<std::int64_t>(j + 1), K_, earlier[j]->X_stored, models[j]->background_m});
     }
     engine::MergeParams params;
+    params.pose_sigma_factor = options_.pose_sigma_factor;
     params.strategy = strategy == SweepStrategy::kMerge ? engine::MergeStrategy::kAlgorithm2 : engine::MergeStrategy::kNaive;
     engine::SceneModelState state = engine::NewSceneModel(K_.width, K_.height);
     const engine::MergeResult merged =
@@ -79,6 +81,7 @@ class Runner {
 
  private:
   PinholeIntrinsics K_;
+  const SweepOptions& options_;
   SweepRun& run_;
 };
 
@@ -137,13 +140,23 @@ SweepRun RunSweep(sim::SweepSceneKind kind, const SweepLevel& level, std::uint64
   std::size_t c_measured = 0;
   for (const auto d : c_last.depth_mm) c_measured += d != 0;
 
-  Runner runner(K, run);
+  Runner runner(K, options, run);
   for (const SweepStrategy strategy : options.strategies) {
     const std::size_t k = static_cast<std::size_t>(strategy);
     // An object added between A and B.
     const engine::SceneModelState a = Build(a_before, K);
     const engine::SceneModelState b = runner.Observe(strategy, b_after, B, {&A}, {&a});
-    run.added_f1[k] = testing::CountPixels(engine::CleanMovable(b.movable, K.width, K.height), truth, zone).F1();
+    const testing::PixelCounts counts =
+        testing::CountPixels(engine::CleanMovable(b.movable, K.width, K.height), truth, zone);
+    run.added_f1[k] = counts.F1();
+    if (std::getenv("SWEEP_DEBUG")) {
+      std::size_t raw_tp = 0;
+      for (std::size_t i = 0; i < truth.size(); ++i) raw_tp += truth[i] && !zone[i] && b.movable[i];
+      std::fprintf(stderr, "%s %s seed %llu: truth %zu P %.3f R %.3f (tp %lld fp %lld fn %lld, raw tp %zu)\n",
+                   sim::SweepSceneName(kind), SweepStrategyName(strategy), static_cast<unsigned long long>(seed),
+                   run.added_truth_pixels, counts.Precision(), counts.Recall(), static_cast<long long>(counts.tp),
+                   static_cast<long long>(counts.fp), static_cast<long long>(counts.fn), raw_tp);
+    }
     // Nothing changed between A, B and C.
     const engine::SceneModelState a2 = Build(a_after, K);
     const engine::SceneModelState b2 = runner.Observe(strategy, b_after, B, {&A}, {&a2});

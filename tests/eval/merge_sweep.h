@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/scene/merge.h"
 #include "sim/sweep_scenes.h"
 
 namespace anchordb::eval {
@@ -33,6 +34,7 @@ struct SweepOptions {
   int frames_a = 4;  // frames of each earlier model
   int frames_b = 4;  // frames after the merged first frame
   int zone_radius_px = 2;
+  double pose_sigma_factor = engine::MergeParams{}.pose_sigma_factor;
   std::vector<SweepStrategy> strategies = {kSweepStrategies.begin(), kSweepStrategies.end()};
 };
 
