@@ -31,10 +31,10 @@ void ExpectBars(sim::SweepSceneKind kind, SweepLevel level) {
                             std::to_string(s.accepted_fraction) + ", not merged " + std::to_string(s.fallbacks) +
                             ", pose error left up to " + std::to_string(s.left_translation_max_m * 100) + " cm " +
                             std::to_string(s.left_rotation_max_rad / kDeg) + " deg";
-  RecordProperty("f1_mean", std::to_string(s.f1_mean[merge]));
-  RecordProperty("f1_worst", std::to_string(s.f1_worst[merge]));
-  RecordProperty("no_change_mean", std::to_string(s.fraction_mean[merge]));
-  RecordProperty("no_change_worst", std::to_string(s.fraction_worst[merge]));
+  ::testing::Test::RecordProperty("f1_mean", std::to_string(s.f1_mean[merge]));
+  ::testing::Test::RecordProperty("f1_worst", std::to_string(s.f1_worst[merge]));
+  ::testing::Test::RecordProperty("no_change_mean", std::to_string(s.fraction_mean[merge]));
+  ::testing::Test::RecordProperty("no_change_worst", std::to_string(s.fraction_worst[merge]));
   EXPECT_GE(s.f1_mean[merge], 0.90) << where;
   EXPECT_GE(s.f1_worst[merge], 0.75) << where;
   EXPECT_LE(s.fraction_mean[merge], 0.003) << where;
