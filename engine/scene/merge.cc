@@ -98,29 +98,26 @@ double FreeSpaceExit(const Eigen::Isometry3d& X_prior_C, const Eigen::Vector3d& 
   return exit;
 }
 
-// Image slopes [m per px] of a depth image (0 = unknown): central differences over +-2 px where the surface is
-// continuous (the neighbour within beta of the pixel's depth), one-sided where only one side is, 0 at
-// discontinuities; clamped to 1.5 % of the depth per px (a surface seen at ~80 deg incidence).
-struct Slopes {
-  std::vector<float> du, dv;
+// The image slope [m per px] of a depth image (0 = unknown) at pixel i along one axis (`step` = 1 or the width):
+// central differences over +-2 px where the surface is continuous (the neighbour within beta of the pixel's
+// depth), one-sided where only one side is, 0 at discontinuities and near the border; clamped to 1.5 % of the depth
+// per px (a surface seen at ~80 deg incidence). Evaluated only where a premise needs it.
+float SlopeAt(const std::vector<float>& d, std::size_t i, std::ptrdiff_t step, bool inside, float beta) {
+  const float c = d[i];
+  if (!inside || c <= 0.0f) return 0.0f;
+  const float ahead = d[i + 2 * step], behind = d[i - 2 * step];
+  const float tol = beta * c, limit = 0.015f * c;
+  const bool a = ahead > 0.0f && std::abs(ahead - c) < tol, b = behind > 0.0f && std::abs(behind - c) < tol;
+  const float g = a && b ? 0.25f * (ahead - behind) : a ? 0.5f * (ahead - c) : b ? 0.5f * (c - behind) : 0.0f;
+  return std::clamp(g, -limit, limit);
+}
+
+struct Slope {
+  float du = 0.0f, dv = 0.0f;
 };
-Slopes SlopeImage(const std::vector<float>& d, int width, int height, float beta) {
-  Slopes s{std::vector<float>(d.size(), 0.0f), std::vector<float>(d.size(), 0.0f)};
-  const auto slope = [beta](float c, float ahead, float behind) {
-    const float tol = beta * c, limit = 0.015f * c;
-    const bool a = ahead > 0.0f && std::abs(ahead - c) < tol, b = behind > 0.0f && std::abs(behind - c) < tol;
-    const float g = a && b ? 0.25f * (ahead - behind) : a ? 0.5f * (ahead - c) : b ? 0.5f * (c - behind) : 0.0f;
-    return std::clamp(g, -limit, limit);
-  };
-  for (int v = 2; v + 2 < height; ++v) {
-    for (int u = 2; u + 2 < width; ++u) {
-      const std::size_t i = static_cast<std::size_t>(v) * width + u;
-      if (d[i] <= 0.0f) continue;
-      s.du[i] = slope(d[i], d[i + 2], d[i - 2]);
-      s.dv[i] = slope(d[i], d[i + 2 * width], d[i - 2 * width]);
-    }
-  }
-  return s;
+Slope SlopeOf(const std::vector<float>& d, int width, int height, int u, int v, float beta) {
+  const std::size_t i = static_cast<std::size_t>(v) * width + u;
+  return {SlopeAt(d, i, 1, u >= 2 && u + 2 < width, beta), SlopeAt(d, i, width, v >= 2 && v + 2 < height, beta)};
 }
 
 // The k-sigma displacement of the earlier model's points under the pose uncertainty, median over an even subset:
@@ -185,8 +182,6 @@ void MergeOne(const PriorModel& prior, const std::vector<float>& s_u, const Eige
     while (b + 1 < kBuckets && kRadii[b] < px) ++b;
     return b;
   };
-  const Slopes su_slope = SlopeImage(s_u, K.width, K.height, beta);
-  const Slopes earlier_slope = SlopeImage(prior.background_m, Kp.width, Kp.height, beta);
   if (params.record_decisions) report.decisions.assign(n, static_cast<std::uint8_t>(MergeDecision::kNothing));
   const auto decide = [&](std::size_t i, MergeDecision d) {
     if (params.record_decisions) report.decisions[i] = static_cast<std::uint8_t>(d);
@@ -222,6 +217,13 @@ void MergeOne(const PriorModel& prior, const std::vector<float>& s_u, const Eige
         decide(i, MergeDecision::kRejectedFov);
         continue;
       }
+      const std::size_t j = static_cast<std::size_t>(proj.v) * Kp.width + proj.u;
+      const float own = prior.background_m[j];
+      if (own > 0.0f && own < proj.z + beta * proj.z) {  // premise 2 fails whatever the uncertainty (see below)
+        ++report.rejected_occlusion;
+        decide(i, MergeDecision::kRejectedOcclusion);
+        continue;
+      }
       const Motion A_C = PoseUncertainty::InCurrent(p_C), A_E = uncertainty.InEarlier(p_C);
       const double px_E = k * uncertainty.Pixels(A_E, p_prior, Kp), sigma_px_C = uncertainty.Pixels(A_C, p_C, K);
       const double px_C = k * sigma_px_C;
@@ -243,15 +245,14 @@ void MergeOne(const PriorModel& prior, const std::vector<float>& s_u, const Eige
       // seen within the window its displacement spans either -- except the surface under the point continuing
       // (a slanted floor or table top) -- and at least occlusion_px where the own pixel has no depth, as a
       // dropped pixel (grazing angle, shadow) is no evidence of free space.
-      const std::size_t j = static_cast<std::size_t>(proj.v) * Kp.width + proj.u;
-      const float own = prior.background_m[j];
+      const Slope g_E = SlopeOf(prior.background_m, Kp.width, Kp.height, proj.u, proj.v, beta);
       const double margin_E = std::hypot(static_cast<double>(beta) * proj.z,
-                                         k * uncertainty.Slanted(A_E, p_prior, Kp, earlier_slope.du[j], earlier_slope.dv[j]));
+                                         k * uncertainty.Slanted(A_E, p_prior, Kp, g_E.du, g_E.dv));
       const auto window_clear = [&](double min_px) {
         const int b = bucket_of(std::max(min_px, px_E));
         const float nearest = nearest_within[b].at<float>(proj.v, proj.u);
         if (nearest >= proj.z + beta * proj.z) return true;
-        const double continuing = own - std::hypot(earlier_slope.du[j], earlier_slope.dv[j]) * kRadii[b] * std::sqrt(2.0);
+        const double continuing = own - std::hypot(g_E.du, g_E.dv) * kRadii[b] * std::sqrt(2.0);
         return own > 0.0f && nearest >= continuing - beta * own;
       };
       const bool occluded = own > 0.0f ? own < proj.z + margin_E || !window_clear(1.0) : !window_clear(params.occlusion_px);
@@ -283,7 +284,8 @@ void MergeOne(const PriorModel& prior, const std::vector<float>& s_u, const Eige
             if (uu < 0 || vv < 0 || uu >= K.width || vv >= K.height) continue;
             const std::size_t q = static_cast<std::size_t>(vv) * K.width + uu;
             if (s_u[q] <= 0.0f) continue;
-            const double continued = s_u[q] - su_slope.du[q] * du - su_slope.dv[q] * dv;
+            const Slope g = SlopeOf(s_u, K.width, K.height, uu, vv, beta);
+            const double continued = s_u[q] - g.du * du - g.dv * dv;
             // Only a surface other than the one the earlier model shows at this pixel (an edge the error may have
             // shifted over it): the surface behind a new object, continued, is no evidence against it.
             if (su > 0.0f && std::abs(continued - su) < beta * su) continue;
