@@ -319,7 +319,9 @@ void MergeOne(const PriorModel& prior, const std::vector<float>& s_u, const Eige
         const double margin_per_m = k * uncertainty.Z(A_E) / proj.z;
         const double exit = FreeSpaceExit(X_prior_C, ray, sv, Kp, nearest_within[bucket_of(std::max(1.0, px_E))],
                                           unknown_distance_px, seen, margin_per_m, min_unknown_px, params);
-        if (std::isfinite(exit) && exit > sv + theta) {
+        // Beyond theta of both depths: Algorithm 1 would take a background within theta of its own depth for the
+        // surface measured now.
+        if (std::isfinite(exit) && exit > sv + theta && exit - sv >= params.beta * exit) {
           s_v[i] = static_cast<float>(exit);
           w[i] = 1.0f;
           ++report.rear_projected;
@@ -412,14 +414,13 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
     MedianTolerance(uncertainty, cloud_C, K, params.pose_sigma_factor, report);
     if (params.strategy == MergeStrategy::kAlgorithm2 && report.tolerance_px > params.max_pose_tolerance_px) {
       // Never worse than no merge: the premises cannot decide anything under this uncertainty.
-      char why[256];
+      char why[160];
       std::snprintf(why, sizeof why,
-                    "registration %s (%s); remaining pose uncertainty %.1f px / %.1f cm (%.1f sigma, median over the "
-                    "model) beyond the %.0f px the premises can use: not merged",
-                    report.icp_applied ? "accepted" : "not accepted",
-                    report.icp.verdict.empty() ? "not run" : report.icp.verdict.c_str(), report.tolerance_px,
-                    report.tolerance_m * 100, params.pose_sigma_factor, params.max_pose_tolerance_px);
-      report.fallback = why;
+                    "; remaining pose uncertainty %.1f px / %.1f cm (%.1f sigma, median over the model) beyond the "
+                    "%.0f px the premises can use: not merged",
+                    report.tolerance_px, report.tolerance_m * 100, params.pose_sigma_factor, params.max_pose_tolerance_px);
+      report.fallback = std::string("registration ") + (report.icp_applied ? "accepted" : "not accepted") + " (" +
+                        (report.icp.verdict.empty() ? "not run" : report.icp.verdict) + ")" + why;
       result.models.push_back(report);
       continue;
     }

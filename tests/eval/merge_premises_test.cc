@@ -122,7 +122,8 @@ TEST(MergePremisesTest, Figure39Situations) {
   EXPECT_GT(r.rejected_fov, 0u);
   EXPECT_GT(r.rejected_occlusion, 0u);
   EXPECT_TRUE(r.fallback.empty()) << r.fallback;
-  EXPECT_LT(r.tolerance_px, 2.0);  // 2.5 sigma of 1 mm / 0.03 deg per camera, ~2 m away
+  // 2.5 sigma of what the registration leaves (at least its floor, 2 mm / 0.11 deg), ~2 m away.
+  EXPECT_LT(r.tolerance_px, 8.0);
 
   // The naive strategy on the same input marks structures A never saw (object 3, the panel's side) as movable
   // or misses object 4; it must do worse on the static objects or on object 4.
@@ -246,31 +247,32 @@ TEST(IcpTest, RecoversAKnownSmallPoseErrorOnARenderedScene) {
   EXPECT_LT(Eigen::AngleAxisd(residual.linear()).angle(), 0.5 * M_PI / 180.0);
 }
 
-// Never worse than no merge: when the registration cannot be trusted (here it finds no correspondences) and the
-// pose is known only to 10 cm / 6 deg, the earlier model is not merged, the report says why, and the new model is
-// what a fresh one would be.
+// Never worse than no merge: a view of nothing but the floor cannot tell where along the floor (or turned about
+// its normal) the camera stood, so the registration keeps the prior there; with the pose known only to 10 cm /
+// 6 deg the earlier model is not merged, the report says why, and the new model is what a fresh one would be.
 TEST(MergePremisesTest, AnUncertainPoseFallsBackToAFreshModel) {
   const PinholeIntrinsics K = sim::KinectIntrinsics();
-  const Eigen::Isometry3d X_A = sim::LookAt({0.0, -0.6, 1.2}, {3.0, -0.6, 0.6});
-  const Eigen::Isometry3d X_B = sim::LookAt({0.2, 0.7, 1.2}, {3.0, -0.2, 0.6});
-  PriorModel prior = ObservedFrom(Room(false, false), K, X_A);
-  prior.X_MapCamera.translation() += Eigen::Vector3d(0.03, -0.03, 0.01);  // the localisation error
+  sim::Scene floor;
+  AddBox(floor, 1, "static", {3.0, 0.0, -0.05}, {8.0, 8.0, 0.1});
+  const Eigen::Isometry3d X_A = sim::LookAt({0.0, -0.3, 1.2}, {2.5, -0.3, 0.0});
+  const Eigen::Isometry3d X_B = sim::LookAt({0.2, 0.2, 1.2}, {2.5, 0.0, 0.0});
+  PriorModel prior = ObservedFrom(floor, K, X_A);
+  prior.X_MapCamera.translation() += Eigen::Vector3d(0.06, -0.05, 0.0);  // the localisation error, along the floor
   prior.pose_covariance_map = PoseCovarianceFromSigma(0.1, 0.1);
   MergeParams params;
   params.current_pose_covariance_map = PoseCovarianceFromSigma(0.1, 0.1);
-  params.icp.max_correspondence_m = 1e-4;
-  const sim::Frame first = sim::Render(Room(true, true), K, X_B, sim::SensorModel{}, 50);
+  const sim::Frame first = sim::Render(floor, K, X_B, sim::SensorModel{}, 50);
   SceneModelState merged_state = NewSceneModel(K.width, K.height);
   const MergeResult merged = MergeAndApplyFirstFrame(merged_state, first.depth_mm, 1000.0, {}, {}, K, X_B, {prior}, params);
   const MergeModelReport& r = merged.models.at(0);
-  EXPECT_FALSE(r.icp_applied);
-  EXPECT_GT(r.tolerance_px, params.max_pose_tolerance_px);
+  EXPECT_GT(r.tolerance_px, params.max_pose_tolerance_px) << r.icp.verdict;
   EXPECT_NE(r.fallback.find("not merged"), std::string::npos) << r.fallback;
   EXPECT_EQ(r.replaced_farther + r.rear_projected + r.filled_unknown + r.supported, 0u);
   SceneModelState fresh = NewSceneModel(K.width, K.height);
   ApplyFrame(fresh, first.depth_mm, 1000.0, {}, {});
   EXPECT_EQ(merged_state.background_m, fresh.background_m);
   EXPECT_EQ(merged_state.movable, fresh.movable);
+  std::printf("floor only: %s\n", r.fallback.c_str());
 }
 
 }  // namespace
