@@ -165,13 +165,14 @@ void MergeOne(const PriorModel& prior, const std::vector<float>& s_u, const Eige
       }
     }
   }
-  // Nearest measured depth within square windows of radius 2, 4, 8, 16, 32 px (unknown = +inf): premise 2's test.
+  // Nearest measured depth within square windows of radius 2 to 32 px (unknown = +inf): premise 2's test. The
+  // steps are fine enough (1.5x) that rounding a pixel's displacement up to the next one costs little.
   cv::Mat earlier(Kp.height, Kp.width, CV_32F);
   for (std::size_t q = 0; q < prior.background_m.size(); ++q) {
     earlier.ptr<float>()[q] = prior.background_m[q] > 0.0f ? prior.background_m[q] : std::numeric_limits<float>::max();
   }
-  static constexpr int kBuckets = 5;
-  static constexpr int kRadii[kBuckets] = {2, 4, 8, 16, 32};
+  static constexpr int kBuckets = 9;
+  static constexpr int kRadii[kBuckets] = {2, 3, 4, 6, 8, 12, 16, 24, 32};
   cv::Mat nearest_within[kBuckets];
   for (int b = 0; b < kBuckets; ++b) {
     cv::erode(earlier, nearest_within[b], cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kRadii[b] + 1, 2 * kRadii[b] + 1)),

@@ -49,7 +49,7 @@ struct MergeParams {
   // rear projection) requires the earlier camera to have seen nothing at or before the point within that window
   // (radius 2 to 32 px; at least occlusion_px where the earlier pixel itself has no depth) and that margin behind
   // the point.
-  double pose_sigma_factor = 2.5;
+  double pose_sigma_factor = 2.0;
   // Premise 3 looks this many sigmas of the point's displacement far (at least neighbourhood_px): it only adds to
   // premise 2, which already holds the point's whole (k-sigma) displacement in the earlier image against what that
   // camera saw; wider, it rejects new objects standing next to known ones.
