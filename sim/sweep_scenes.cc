@@ -26,14 +26,15 @@ void AddAddedBox(Builder& b, Jitter& jitter, const Vector3d& surface_m, const Ei
   b.Box(kAddedId, centre, size, jitter.Uniform(-20.0, 20.0) * kDeg);
 }
 
+// The tabletop setting's room and table only, and one static box on the table.
 SweepScene Sparse(std::uint64_t seed) {
+  const SettingScene setting = MakeSetting(Setting::kTA, seed);
   Jitter jitter(seed * 0x9E3779B97F4A7C15ULL + 77);
   Builder b;
-  AddRoom(b, false, 0, 0, 0);
-  const Eigen::Vector2d table_xy(2.3, 0.0);
-  b.AddObject(kFurnitureId, "table", "static");
-  AddLeggedTop(b, kFurnitureId, table_xy, Vector3d(0.8, 1.2, 0.03), 0.75, 0.05, 0.05);
-  const Vector3d surface(table_xy.x(), table_xy.y(), 0.75);
+  const auto kept = [](int id) { return id <= kWallEastId || id == kFurnitureId; };
+  for (const Object& o : setting.scene.objects) if (kept(o.id)) b.scene().objects.push_back(o);
+  for (const Primitive& p : setting.scene.primitives) if (kept(p.object_id)) b.scene().primitives.push_back(p);
+  const Vector3d& surface = setting.surface_point_m;
   b.AddObject(kBoxId, "box", "static");
   b.Box(kBoxId, Vector3d(surface.x() + 0.15, surface.y() + 0.35, surface.z() + 0.09), Vector3d(0.25, 0.2, 0.18), 0.2);
   SweepScene out;
@@ -41,9 +42,8 @@ SweepScene Sparse(std::uint64_t seed) {
   AddAddedBox(b, jitter, surface, {-0.05, -0.15});
   out.after = std::move(b.scene());
   out.added_id = kAddedId;
-  const Viewpoints views = MakeViewpoints(surface, 15.0 * kDeg, 1.3, 1.3, -35.0 * kDeg);
-  out.X_WorldCameraA = views.A;
-  out.X_WorldCameraB = views.B;
+  out.X_WorldCameraA = setting.X_WorldCameraA;
+  out.X_WorldCameraB = setting.X_WorldCameraB;
   out.X_WorldCameraC = ThirdViewpoint(surface, 15.0 * kDeg, 1.3, 1.3);
   return out;
 }

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 #include <numbers>
 
 #include "engine/scene/merge.h"
@@ -149,14 +148,6 @@ SweepRun RunSweep(sim::SweepSceneKind kind, const SweepLevel& level, std::uint64
     const testing::PixelCounts counts =
         testing::CountPixels(engine::CleanMovable(b.movable, K.width, K.height), truth, zone);
     run.added_f1[k] = counts.F1();
-    if (std::getenv("SWEEP_DEBUG")) {
-      std::size_t raw_tp = 0;
-      for (std::size_t i = 0; i < truth.size(); ++i) raw_tp += truth[i] && !zone[i] && b.movable[i];
-      std::fprintf(stderr, "%s %s seed %llu: truth %zu P %.3f R %.3f (tp %lld fp %lld fn %lld, raw tp %zu)\n",
-                   sim::SweepSceneName(kind), SweepStrategyName(strategy), static_cast<unsigned long long>(seed),
-                   run.added_truth_pixels, counts.Precision(), counts.Recall(), static_cast<long long>(counts.tp),
-                   static_cast<long long>(counts.fp), static_cast<long long>(counts.fn), raw_tp);
-    }
     // Nothing changed between A, B and C.
     const engine::SceneModelState a2 = Build(a_after, K);
     const engine::SceneModelState b2 = runner.Observe(strategy, b_after, B, {&A}, {&a2});
