@@ -1,9 +1,13 @@
 #include "engine/scene/merge.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
+#include "engine/scene/merge_tolerance.h"
 #include "engine/scene/projection.h"
 
 namespace anchordb::engine {
@@ -70,8 +74,8 @@ struct PixelBox {
 // the point but the surface behind it from the current view was hidden from it, the ray stops where it enters
 // that hidden region.
 double FreeSpaceExit(const Eigen::Isometry3d& X_prior_C, const Eigen::Vector3d& ray_C, double from_depth,
-                     const PinholeIntrinsics& K_prior, const std::vector<float>& background_m,
-                     const cv::Mat& unknown_distance_px, const PixelBox& seen, const MergeParams& params) {
+                     const PinholeIntrinsics& K_prior, const cv::Mat& nearest_m, const cv::Mat& unknown_distance_px,
+                     const PixelBox& seen, double margin_per_m, double min_unknown_px, const MergeParams& params) {
   const double exit = FrustumExit(X_prior_C.translation(), X_prior_C.linear() * ray_C, K_prior, params.frustum_far_m);
   if (!std::isfinite(exit)) return exit;
   double free_to = from_depth;
@@ -82,15 +86,253 @@ double FreeSpaceExit(const Eigen::Isometry3d& X_prior_C, const Eigen::Vector3d& 
     if (u < 0 || v < 0 || u >= K_prior.width || v >= K_prior.height) return free_to;
     const int iu = static_cast<int>(u), iv = static_cast<int>(v);
     if (!seen.Contains(iu, iv)) return free_to;
-    const float measured = background_m[static_cast<std::size_t>(iv) * K_prior.width + iu];
-    if (measured > 0.0f) {
-      if (p.z() >= measured - params.beta * measured) return free_to;  // at or behind what the earlier camera saw
-    } else if (unknown_distance_px.at<float>(iv, iu) < params.rear_projection_min_unknown_px) {
+    const float measured = nearest_m.at<float>(iv, iu);  // the nearest within the pose tolerance's window
+    if (measured < std::numeric_limits<float>::max()) {
+      // at or behind what the earlier camera saw (theta, and the pose uncertainty at this depth)
+      if (p.z() >= measured - params.beta * measured - margin_per_m * t) return free_to;
+    } else if (unknown_distance_px.at<float>(iv, iu) < min_unknown_px) {
       return free_to;  // a dropout: no evidence either way
     }
     free_to = t;
   }
   return exit;
+}
+
+// The image slope [m per px] of a depth image (0 = unknown) at pixel i along one axis (`step` = 1 or the width):
+// central differences over +-2 px where the surface is continuous (the neighbour within beta of the pixel's
+// depth), one-sided where only one side is, 0 at discontinuities and near the border; clamped to 1.5 % of the depth
+// per px (a surface seen at ~80 deg incidence). Evaluated only where a premise needs it.
+float SlopeAt(const std::vector<float>& d, std::size_t i, std::ptrdiff_t step, bool inside, float beta) {
+  const float c = d[i];
+  if (!inside || c <= 0.0f) return 0.0f;
+  const float ahead = d[i + 2 * step], behind = d[i - 2 * step];
+  const float tol = beta * c, limit = 0.015f * c;
+  const bool a = ahead > 0.0f && std::abs(ahead - c) < tol, b = behind > 0.0f && std::abs(behind - c) < tol;
+  const float g = a && b ? 0.25f * (ahead - behind) : a ? 0.5f * (ahead - c) : b ? 0.5f * (c - behind) : 0.0f;
+  return std::clamp(g, -limit, limit);
+}
+
+struct Slope {
+  float du = 0.0f, dv = 0.0f;
+};
+Slope SlopeOf(const std::vector<float>& d, int width, int height, int u, int v, float beta) {
+  const std::size_t i = static_cast<std::size_t>(v) * width + u;
+  return {SlopeAt(d, i, 1, u >= 2 && u + 2 < width, beta), SlopeAt(d, i, width, v >= 2 && v + 2 < height, beta)};
+}
+
+// The k-sigma displacement of the earlier model's points under the pose uncertainty, median over an even subset:
+// in the current image [px] (the larger of the two images) and along the current camera's z [m].
+void MedianTolerance(const PoseUncertainty& uncertainty, const std::vector<Eigen::Vector3f>& cloud_C,
+                     const PinholeIntrinsics& K, double k, MergeModelReport& report) {
+  std::vector<double> px, m;
+  const std::size_t step = std::max<std::size_t>(1, cloud_C.size() / 256);
+  for (std::size_t i = 0; i < cloud_C.size(); i += step) {
+    const Eigen::Vector3d p = cloud_C[i].cast<double>();
+    if (p.z() <= 0.05) continue;
+    const Motion A = PoseUncertainty::InCurrent(p);
+    px.push_back(k * uncertainty.Pixels(A, p, K));
+    m.push_back(k * uncertainty.Z(A));
+  }
+  if (px.empty()) return;
+  std::nth_element(px.begin(), px.begin() + px.size() / 2, px.end());
+  std::nth_element(m.begin(), m.begin() + m.size() / 2, m.end());
+  report.tolerance_px = px[px.size() / 2];
+  report.tolerance_m = m[m.size() / 2];
+}
+
+// Lines 2-11 of Algorithm 2 for one earlier model, rasterised into the current view as s_u, on S_v (s_v, w).
+void MergeOne(const PriorModel& prior, const std::vector<float>& s_u, const Eigen::Isometry3d& X_C_prior,
+              const PoseUncertainty& uncertainty, const PinholeIntrinsics& K, const MergeParams& params,
+              std::vector<float>& s_v, std::vector<float>& w, MergeModelReport& report) {
+  const std::size_t n = s_v.size();
+  const float beta = static_cast<float>(params.beta);
+  const double k = params.pose_sigma_factor;
+  const PinholeIntrinsics& Kp = prior.K;
+  const Eigen::Isometry3d X_prior_C = X_C_prior.inverse();
+  const int r = params.neighbourhood_px;
+  // Distance [px] of every earlier pixel to the nearest measured one (0 where measured).
+  cv::Mat unknown(Kp.height, Kp.width, CV_8U);
+  for (std::size_t q = 0; q < prior.background_m.size(); ++q) unknown.data[q] = prior.background_m[q] > 0.0f ? 0 : 255;
+  cv::Mat unknown_distance_px;
+  cv::distanceTransform(unknown, unknown_distance_px, cv::DIST_L2, cv::DIST_MASK_3);
+  // The earlier sensor's effective field of view (PixelBox).
+  PixelBox seen{Kp.width, -1, Kp.height, -1};
+  for (int v = 0; v < Kp.height; ++v) {
+    for (int u = 0; u < Kp.width; ++u) {
+      if (prior.background_m[static_cast<std::size_t>(v) * Kp.width + u] > 0.0f) {
+        seen.u_min = std::min(seen.u_min, u), seen.u_max = std::max(seen.u_max, u);
+        seen.v_min = std::min(seen.v_min, v), seen.v_max = std::max(seen.v_max, v);
+      }
+    }
+  }
+  // Nearest measured depth within square windows of radius 2 to 32 px (unknown = +inf): premise 2's test. The
+  // steps are fine enough (1.5x) that rounding a pixel's displacement up to the next one costs little.
+  cv::Mat earlier(Kp.height, Kp.width, CV_32F);
+  for (std::size_t q = 0; q < prior.background_m.size(); ++q) {
+    earlier.ptr<float>()[q] = prior.background_m[q] > 0.0f ? prior.background_m[q] : std::numeric_limits<float>::max();
+  }
+  static constexpr int kBuckets = 9;
+  static constexpr int kRadii[kBuckets] = {2, 3, 4, 6, 8, 12, 16, 24, 32};
+  cv::Mat nearest_within[kBuckets];
+  for (int b = 0; b < kBuckets; ++b) {
+    cv::erode(earlier, nearest_within[b], cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kRadii[b] + 1, 2 * kRadii[b] + 1)),
+              cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+  }
+  const auto bucket_of = [](double px) {
+    int b = 0;
+    while (b + 1 < kBuckets && kRadii[b] < px) ++b;
+    return b;
+  };
+  if (params.record_decisions) report.decisions.assign(n, static_cast<std::uint8_t>(MergeDecision::kNothing));
+  const auto decide = [&](std::size_t i, MergeDecision d) {
+    if (params.record_decisions) report.decisions[i] = static_cast<std::uint8_t>(d);
+  };
+  for (int v = 0; v < K.height; ++v) {
+    for (int u = 0; u < K.width; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * K.width + u;
+      const float su = s_u[i], sv = s_v[i];
+      if (sv == 0.0f) {  // nothing measured here now: the earlier background fills the gap
+        if (su > 0.0f) s_v[i] = su, w[i] = 1.0f, ++report.filled_unknown, decide(i, MergeDecision::kFilledUnknown);
+        continue;
+      }
+      const float theta = beta * sv;
+      const Eigen::Vector3d ray = PixelRay(K, u, v);
+      // Line 3-4 (the pose uncertainty enters below: a surface the error moved farther fails premise 2's margin).
+      const bool same = su > 0.0f && std::abs(su - sv) < theta;
+      if (same) {
+        w[i] += 1.0f;
+        ++report.supported;
+        decide(i, MergeDecision::kSupported);
+        continue;
+      }
+      if (su > 0.0f && su < sv) {  // nearer: the static background is known to lie behind
+        decide(i, MergeDecision::kNearer);
+        continue;
+      }
+      // Lines 6-11 need the premises for s_v^i, each under the pose uncertainty of the point.
+      const Eigen::Vector3d p_C = ray * static_cast<double>(sv);
+      const Eigen::Vector3d p_prior = X_prior_C * p_C;
+      const Projection proj = Project(p_prior, Kp, params.frustum_far_m);
+      if (!proj.inside) {  // premise 1
+        ++report.rejected_fov;
+        decide(i, MergeDecision::kRejectedFov);
+        continue;
+      }
+      const std::size_t j = static_cast<std::size_t>(proj.v) * Kp.width + proj.u;
+      const float own = prior.background_m[j];
+      if (own > 0.0f && own < proj.z + beta * proj.z) {  // premise 2 fails whatever the uncertainty (see below)
+        ++report.rejected_occlusion;
+        decide(i, MergeDecision::kRejectedOcclusion);
+        continue;
+      }
+      const Motion A_C = PoseUncertainty::InCurrent(p_C), A_E = uncertainty.InEarlier(p_C);
+      const double px_E = k * uncertainty.Pixels(A_E, p_prior, Kp), sigma_px_C = uncertainty.Pixels(A_C, p_C, K);
+      const double px_C = k * sigma_px_C;
+      if (std::max(px_E, px_C) > params.max_pose_tolerance_px) {
+        ++report.rejected_uncertain;
+        decide(i, MergeDecision::kRejectedUncertain);
+        continue;
+      }
+      const int margin_px = static_cast<int>(std::ceil(px_E));
+      if (!seen.Contains(proj.u - margin_px, proj.v - margin_px) || !seen.Contains(proj.u + margin_px, proj.v + margin_px)) {
+        ++report.rejected_fov;  // premise 1 under the uncertainty: well inside the earlier field of view
+        decide(i, MergeDecision::kRejectedFov);
+        continue;
+      }
+      // Premise 2: nothing stood in front of (or at) the point as seen from the earlier camera -- at the point's
+      // depth it would have been seen as static. The point's own line of sight must show something farther by
+      // theta and by what the uncertainty may change there (the slope-aware sigma of the earlier image), or
+      // nothing; and since the point may lie beside where it projects, nothing nearer than the point may have been
+      // seen within the window its displacement spans either -- except the surface under the point continuing
+      // (a slanted floor or table top) -- and at least occlusion_px where the own pixel has no depth, as a
+      // dropped pixel (grazing angle, shadow) is no evidence of free space.
+      const Slope g_E = SlopeOf(prior.background_m, Kp.width, Kp.height, proj.u, proj.v, beta);
+      const double margin_E = std::hypot(static_cast<double>(beta) * proj.z,
+                                         k * uncertainty.Slanted(A_E, p_prior, Kp, g_E.du, g_E.dv));
+      const auto window_clear = [&](double min_px) {
+        const int b = bucket_of(std::max(min_px, px_E));
+        const float nearest = nearest_within[b].at<float>(proj.v, proj.u);
+        if (nearest >= proj.z + beta * proj.z) return true;
+        const double continuing = own - std::hypot(g_E.du, g_E.dv) * kRadii[b] * std::sqrt(2.0);
+        return own > 0.0f && nearest >= continuing - beta * own;
+      };
+      const bool occluded = own > 0.0f ? own < proj.z + margin_E || !window_clear(1.0) : !window_clear(params.occlusion_px);
+      if (occluded) {  // something in front of, or at, the point's depth was seen
+        ++report.rejected_occlusion;
+        decide(i, MergeDecision::kRejectedOcclusion);
+        continue;
+      }
+      // Premise 3: the transformed model has points at this depth nearby: within neighbourhood_px as in the thesis,
+      // and within neighbourhood_sigma_factor sigmas of the point's displacement in the current image (sampled
+      // sparsely) where an earlier surface, continued along its slope, passes the pixel within theta and the point's
+      // z uncertainty.
+      bool neighbour = false;
+      for (int dv = -r; dv <= r && !neighbour; ++dv) {
+        for (int du = -r; du <= r && !neighbour; ++du) {
+          const int uu = u + du, vv = v + dv;
+          if (uu < 0 || vv < 0 || uu >= K.width || vv >= K.height) continue;
+          const float q = s_u[static_cast<std::size_t>(vv) * K.width + uu];
+          neighbour = q > 0.0f && std::abs(q - sv) < theta;
+        }
+      }
+      const int reach = static_cast<int>(std::ceil(params.neighbourhood_sigma_factor * sigma_px_C));
+      if (!neighbour && reach > r) {
+        const double tol = std::hypot(static_cast<double>(theta), k * uncertainty.Z(A_C));
+        const int stride = std::max(1, reach / 4);
+        for (int dv = -reach; dv <= reach && !neighbour; dv += stride) {
+          for (int du = -reach; du <= reach && !neighbour; du += stride) {
+            const int uu = u + du, vv = v + dv;
+            if (uu < 0 || vv < 0 || uu >= K.width || vv >= K.height) continue;
+            const std::size_t q = static_cast<std::size_t>(vv) * K.width + uu;
+            if (s_u[q] <= 0.0f) continue;
+            const Slope g = SlopeOf(s_u, K.width, K.height, uu, vv, beta);
+            const double continued = s_u[q] - g.du * du - g.dv * dv;
+            // Only a surface other than the one the earlier model shows at this pixel (an edge the error may have
+            // shifted over it): the surface behind a new object, continued, is no evidence against it.
+            if (su > 0.0f && std::abs(continued - su) < beta * su) continue;
+            neighbour = std::abs(continued - sv) < tol;
+          }
+        }
+      }
+      if (neighbour) {
+        ++report.rejected_neighbourhood;
+        decide(i, MergeDecision::kRejectedNeighbourhood);
+        continue;
+      }
+      if (su > sv) {  // lines 6-8
+        // The earlier camera must have seen through the point (measured farther there), not merely nothing.
+        if (!(own > proj.z + margin_E)) {
+          ++report.rejected_occlusion;
+          decide(i, MergeDecision::kNotSeenThrough);
+          continue;
+        }
+        s_v[i] = su;
+        w[i] = 1.0f;
+        ++report.replaced_farther;
+        decide(i, MergeDecision::kReplacedFarther);
+      } else {  // su unknown: lines 9-11, rear projection
+        const double min_unknown_px = std::max(params.rear_projection_min_unknown_px, px_E);
+        if (own == 0.0f && unknown_distance_px.at<float>(proj.v, proj.u) < min_unknown_px) {
+          ++report.rejected_occlusion;  // a dropout next to measured structure: not seen through
+          decide(i, MergeDecision::kRejectedDropout);
+          continue;
+        }
+        const double margin_per_m = k * uncertainty.Z(A_E) / proj.z;
+        const double exit = FreeSpaceExit(X_prior_C, ray, sv, Kp, nearest_within[bucket_of(std::max(1.0, px_E))],
+                                          unknown_distance_px, seen, margin_per_m, min_unknown_px, params);
+        // Beyond theta of both depths: Algorithm 1 would take a background within theta of its own depth for the
+        // surface measured now.
+        if (std::isfinite(exit) && exit > sv + theta && exit - sv >= params.beta * exit) {
+          s_v[i] = static_cast<float>(exit);
+          w[i] = 1.0f;
+          ++report.rear_projected;
+          decide(i, MergeDecision::kRearProjected);
+        } else {
+          decide(i, MergeDecision::kRearNotBehind);
+        }
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -149,7 +391,6 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
   std::vector<float> s_v = frame_m;            // line 1: S_v <- F_t
   std::vector<float> w(n, 1.0f);
   std::vector<float> naive(n, 0.0f);           // z-buffer of all transformed models (naive strategies)
-  const float beta = static_cast<float>(params.beta);
 
   for (const PriorModel& prior : priors) {
     MergeModelReport report;
@@ -157,10 +398,12 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
     auto start = Clock::now();
     std::vector<Eigen::Vector3f> cloud_C = BackProject(prior.background_m, prior.K, X_CM * prior.X_MapCamera);
     Eigen::Isometry3d X_C_prior = X_CM * prior.X_MapCamera;  // pose of the earlier camera in the current one
+    // The uncertainty of X_C_prior the premises allow for: the registration's remaining one, else the prior's.
+    Matrix6d covariance_C = RelativePoseCovariance(X_MapCamera, params.current_pose_covariance_map,
+                                                   prior.X_MapCamera, prior.pose_covariance_map);
     if (params.strategy != MergeStrategy::kNaiveWithoutIcp && !cloud_C.empty() && icp_target.points > 0) {
-      const Matrix6d prior_covariance = RelativePoseCovariance(X_MapCamera, params.current_pose_covariance_map,
-                                                               prior.X_MapCamera, prior.pose_covariance_map);
-      report.icp = AlignIcp(cloud_C, icp_target, prior_covariance);
+      report.icp = AlignIcp(cloud_C, icp_target, covariance_C);
+      covariance_C = report.icp.covariance;
       if (report.icp.accepted) {
         report.icp_applied = true;
         for (auto& p : cloud_C) p = (report.icp.correction.cast<float>() * p);
@@ -168,6 +411,20 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
       }
     }
     result.timing.icp_ms += MsSince(start);
+    const PoseUncertainty uncertainty(covariance_C, X_C_prior);
+    MedianTolerance(uncertainty, cloud_C, K, params.pose_sigma_factor, report);
+    if (params.strategy == MergeStrategy::kAlgorithm2 && report.tolerance_px > params.max_pose_tolerance_px) {
+      // Never worse than no merge: the premises cannot decide anything under this uncertainty.
+      char why[160];
+      std::snprintf(why, sizeof why,
+                    "; remaining pose uncertainty %.1f px / %.1f cm (%.1f sigma, median over the model) beyond the "
+                    "%.0f px the premises can use: not merged",
+                    report.tolerance_px, report.tolerance_m * 100, params.pose_sigma_factor, params.max_pose_tolerance_px);
+      report.fallback = std::string("registration ") + (report.icp_applied ? "accepted" : "not accepted") + " (" +
+                        (report.icp.verdict.empty() ? "not run" : report.icp.verdict) + ")" + why;
+      result.models.push_back(report);
+      continue;
+    }
     start = Clock::now();
     const std::vector<float> s_u = Rasterise(cloud_C, K, params.closing_px);
     for (float v : s_u) report.rasterised_pixels += v > 0.0f;
@@ -178,136 +435,8 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
       for (std::size_t i = 0; i < n; ++i) {
         if (s_u[i] > 0.0f && (naive[i] == 0.0f || s_u[i] < naive[i])) naive[i] = s_u[i];
       }
-      result.timing.merge_ms += MsSince(start);
-      result.models.push_back(report);
-      continue;
-    }
-
-    const Eigen::Isometry3d X_prior_C = X_C_prior.inverse();
-    const int r = params.neighbourhood_px;
-    // Distance [px] of every earlier pixel to the nearest measured one (0 where measured).
-    cv::Mat unknown(prior.K.height, prior.K.width, CV_8U);
-    for (std::size_t k = 0; k < prior.background_m.size(); ++k) unknown.data[k] = prior.background_m[k] > 0.0f ? 0 : 255;
-    cv::Mat unknown_distance_px;
-    cv::distanceTransform(unknown, unknown_distance_px, cv::DIST_L2, cv::DIST_MASK_3);
-    // The earlier sensor's effective field of view (PixelBox).
-    PixelBox seen{prior.K.width, -1, prior.K.height, -1};
-    for (int v = 0; v < prior.K.height; ++v) {
-      for (int u = 0; u < prior.K.width; ++u) {
-        if (prior.background_m[static_cast<std::size_t>(v) * prior.K.width + u] > 0.0f) {
-          seen.u_min = std::min(seen.u_min, u), seen.u_max = std::max(seen.u_max, u);
-          seen.v_min = std::min(seen.v_min, v), seen.v_max = std::max(seen.v_max, v);
-        }
-      }
-    }
-    // Nearest measured depth within square windows of radius 2, 4, 8, 16, 32 px (unknown = +inf): premise 2's test.
-    cv::Mat earlier(prior.K.height, prior.K.width, CV_32F);
-    for (std::size_t k = 0; k < prior.background_m.size(); ++k) {
-      earlier.ptr<float>()[k] = prior.background_m[k] > 0.0f ? prior.background_m[k] : std::numeric_limits<float>::max();
-    }
-    static constexpr int kBuckets = 5;
-    static constexpr int kRadii[kBuckets] = {2, 4, 8, 16, 32};
-    cv::Mat nearest_within[kBuckets];
-    for (int k = 0; k < kBuckets; ++k) {
-      cv::erode(earlier, nearest_within[k], cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kRadii[k] + 1, 2 * kRadii[k] + 1)),
-                cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
-    }
-    if (params.record_decisions) report.decisions.assign(n, static_cast<std::uint8_t>(MergeDecision::kNothing));
-    const auto decide = [&](std::size_t i, MergeDecision d) {
-      if (params.record_decisions) report.decisions[i] = static_cast<std::uint8_t>(d);
-    };
-    for (int v = 0; v < K.height; ++v) {
-      for (int u = 0; u < K.width; ++u) {
-        const std::size_t i = static_cast<std::size_t>(v) * K.width + u;
-        const float su = s_u[i], sv = s_v[i];
-        if (sv == 0.0f) {  // nothing measured here now: the earlier background fills the gap
-          if (su > 0.0f) s_v[i] = su, w[i] = 1.0f, ++report.filled_unknown, decide(i, MergeDecision::kFilledUnknown);
-          continue;
-        }
-        const float theta = beta * sv;
-        if (su > 0.0f && std::abs(su - sv) < theta) {  // line 3-4
-          w[i] += 1.0f;
-          ++report.supported;
-          decide(i, MergeDecision::kSupported);
-          continue;
-        }
-        if (su > 0.0f && su < sv) {  // nearer: the static background is known to lie behind
-          decide(i, MergeDecision::kNearer);
-          continue;
-        }
-        // Lines 6-11 need the premises for s_v^i.
-        const Eigen::Vector3d ray = PixelRay(K, u, v);
-        const Eigen::Vector3d p_prior = X_prior_C * (ray * sv);
-        const Projection proj = Project(p_prior, prior.K, params.frustum_far_m);
-        if (!proj.inside || !seen.Contains(proj.u, proj.v)) {  // premise 1
-          ++report.rejected_fov;
-          decide(i, MergeDecision::kRejectedFov);
-          continue;
-        }
-        // Premise 2: nothing stood in front of (or at) the point as seen from the earlier camera -- at the point's
-        // depth it would have been seen as static. The point's own line of sight must show something farther, or
-        // nothing; and since the point may lie a little beside where it projects (the remaining pose error), nothing
-        // at or before its depth may have been seen within the window that error spans either -- at least
-        // occlusion_px where the own pixel has no depth, as a pixel the sensor dropped (grazing angle, shadow) is no
-        // evidence of free space.
-        const float own = prior.background_m[static_cast<std::size_t>(proj.v) * prior.K.width + proj.u];
-        const auto window_clear = [&](bool after_icp, double min_px) {
-          const double tolerance = after_icp ? params.pose_tolerance_after_icp_m : params.pose_tolerance_m;
-          const double needed_px = std::max(min_px, prior.K.fx * tolerance / proj.z);
-          int bucket = 0;
-          while (bucket + 1 < kBuckets && kRadii[bucket] < needed_px) ++bucket;
-          return nearest_within[bucket].at<float>(proj.v, proj.u) >= proj.z + beta * proj.z;
-        };
-        const bool occluded = own > 0.0f ? own < proj.z + beta * proj.z || !window_clear(report.icp_applied, 1.0)
-                                         : !window_clear(report.icp_applied, params.occlusion_px);
-        if (occluded) {  // something in front of, or at, the point's depth was seen
-          ++report.rejected_occlusion;
-          decide(i, MergeDecision::kRejectedOcclusion);
-          continue;
-        }
-        bool neighbour = false;  // premise 3: the transformed model has points at this depth nearby
-        for (int dv = -r; dv <= r && !neighbour; ++dv) {
-          for (int du = -r; du <= r && !neighbour; ++du) {
-            const int uu = u + du, vv = v + dv;
-            if (uu < 0 || vv < 0 || uu >= K.width || vv >= K.height) continue;
-            const float q = s_u[static_cast<std::size_t>(vv) * K.width + uu];
-            neighbour = q > 0.0f && std::abs(q - sv) < theta;
-          }
-        }
-        if (neighbour) {
-          ++report.rejected_neighbourhood;
-          decide(i, MergeDecision::kRejectedNeighbourhood);
-          continue;
-        }
-        if (su > sv) {  // lines 6-8
-          // The earlier camera must have seen through the point (measured farther there), not merely nothing.
-          if (!(own > proj.z + beta * proj.z)) {
-            ++report.rejected_occlusion;
-            decide(i, MergeDecision::kNotSeenThrough);
-            continue;
-          }
-          s_v[i] = su;
-          w[i] = 1.0f;
-          ++report.replaced_farther;
-          decide(i, MergeDecision::kReplacedFarther);
-        } else {  // su unknown: lines 9-11, rear projection
-          if (own == 0.0f && unknown_distance_px.at<float>(proj.v, proj.u) < params.rear_projection_min_unknown_px) {
-            ++report.rejected_occlusion;  // a dropout next to measured structure: not seen through
-            decide(i, MergeDecision::kRejectedDropout);
-            continue;
-          }
-          const double exit = FreeSpaceExit(X_prior_C, ray, sv, prior.K, prior.background_m, unknown_distance_px, seen,
-                                            params);
-          if (std::isfinite(exit) && exit > sv + theta) {
-            s_v[i] = static_cast<float>(exit);
-            w[i] = 1.0f;
-            ++report.rear_projected;
-            decide(i, MergeDecision::kRearProjected);
-          } else {
-            decide(i, MergeDecision::kRearNotBehind);
-          }
-        }
-      }
+    } else {
+      MergeOne(prior, s_u, X_C_prior, uncertainty, K, params, s_v, w, report);
     }
     result.timing.merge_ms += MsSince(start);
     result.models.push_back(report);

@@ -41,12 +41,23 @@ struct MergeParams {
   int neighbourhood_px = 2;        // premise 3 looks at (2r+1)^2 pixels of the transformed model
   int occlusion_px = 4;            // premise 2 looks at (2r+1)^2 pixels of the earlier image at least: dropped-pixel
                                    // slivers (grazing faces, shadows) up to ~2r px wide are not taken for free space
-  // Premise 2 allows for the remaining pose error between the views: nothing may have been seen at or before the
-  // point within the window this distance spans at the point's depth (fx * tolerance / z, radius 2 to 32 px; at
-  // least occlusion_px where the earlier pixel itself has no depth). The smaller tolerance applies when ICP
-  // corrected the pose.
-  double pose_tolerance_m = 0.03;
-  double pose_tolerance_after_icp_m = 0.005;
+  // The tolerances of premises 1-3, of line 4 and of the rear projection allow for the remaining pose error between
+  // the views (issue 13): the remaining uncertainty of the relative pose (IcpResult::covariance, the prior's when the
+  // correction is not accepted) is propagated to each pixel's point (merge_tolerance.h), and this many sigmas of its
+  // displacement in the images (px) and along the camera z (m) are allowed: line 4 takes the earlier depth within
+  // theta (+) that of the current one, premise 1 keeps that far inside the earlier field of view, premise 2 (and the
+  // rear projection) requires the earlier camera to have seen nothing at or before the point within that window
+  // (radius 2 to 32 px; at least occlusion_px where the earlier pixel itself has no depth) and that margin behind
+  // the point.
+  double pose_sigma_factor = 2.0;
+  // Premise 3 looks this many sigmas of the point's displacement far (at least neighbourhood_px): it only adds to
+  // premise 2, which already holds the point's whole (k-sigma) displacement in the earlier image against what that
+  // camera saw; wider, it rejects new objects standing next to known ones.
+  double neighbourhood_sigma_factor = 1.0;
+  // A pixel whose point moves farther than this in an image (k sigma) is not decided from the earlier model (its
+  // windows would exceed the largest, 32 px); an earlier model whose median k-sigma displacement exceeds it is not
+  // merged at all (MergeModelReport::fallback): the merge is never worse than a fresh model.
+  double max_pose_tolerance_px = 32.0;
   int closing_px = 3;              // kernel of the hole-closing after rasterisation
   // Rear projection (lines 9-11): the background moves back along the current ray as far as the earlier camera
   // provably saw free space -- through pixels where it measured something farther, or nothing inside a wide unknown
@@ -76,6 +87,7 @@ enum class MergeDecision : std::uint8_t {
   kRejectedDropout,        // lines 9-11: the unknown earlier pixel is a dropout next to measured structure
   kRearProjected,          // lines 9-11
   kRearNotBehind,          // lines 9-11: the earlier camera saw no free space (beyond theta) behind the point
+  kRejectedUncertain,      // the point's k-sigma displacement exceeds max_pose_tolerance_px: not decided here
   kCount
 };
 
@@ -91,6 +103,14 @@ struct MergeModelReport {
   std::size_t rejected_fov = 0;        // premise 1 failed
   std::size_t rejected_occlusion = 0;  // premise 2 failed
   std::size_t rejected_neighbourhood = 0;  // premise 3 failed
+  std::size_t rejected_uncertain = 0;      // the pose uncertainty at the pixel was beyond max_pose_tolerance_px
+  // The remaining pose uncertainty the premises worked with (MergeParams::pose_sigma_factor sigmas), the median over
+  // the earlier model's points: displacement in the current image [px] and along the current camera's z [m].
+  double tolerance_px = 0.0;
+  double tolerance_m = 0.0;
+  // Empty when the model was merged; otherwise why it was not (its pixels are left as a fresh model has them), e.g.
+  // the registration was not accepted and the prior is wider than the premises can use.
+  std::string fallback;
   std::vector<std::uint8_t> decisions;     // per pixel, a MergeDecision (only with MergeParams::record_decisions)
 };
 

@@ -1,71 +1,60 @@
 // The engine's only PCL translation unit for registration (PCL headers are slow to compile; they stay here).
 #include "engine/scene/registration.h"
 
+#include "engine/scene/registration_solver.h"
+
+#include <flann/flann.hpp>
 #include <pcl/features/normal_3d.h>
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
-#include <pcl/registration/icp.h>
 #include <pcl/search/kdtree.h>
 
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
 
 namespace anchordb::engine {
 
 struct IcpTargetData {
-  pcl::PointCloud<pcl::PointNormal>::Ptr cloud;       // downsampled, with valid normals
-  pcl::search::KdTree<pcl::PointNormal>::Ptr tree;    // over `cloud` (x, y, z), shared by every alignment
+  pcl::PointCloud<pcl::PointNormal>::Ptr cloud;  // downsampled, with valid normals
+  std::vector<float> xyz;                        // its points, N x 3 row-major (the search tree's data set)
+  // FLANN's kd-tree (PCL's search backend) over `xyz`, shared by every alignment; queried in batches (one call per
+  // correspondence pass: a call per point pays FLANN's per-call set-up each time).
+  std::unique_ptr<flann::Index<flann::L2_Simple<float>>> index;
+  double spacing_m = 0.0;  // typical distance between neighbouring target points (voxel, widened by the thinning)
 };
 
 namespace {
 
-// Whether point-to-plane ICP against `target` is singular: the 6x6 normal equations sum [(p - c) x n, n] over the
-// target's points; a zero eigenvalue (relative to the largest) is a motion no correspondence can observe (one plane:
-// in-plane translation and rotation about its normal). PCL's solver inverts that matrix and returns NaN then.
-bool PointToPlaneIsSingular(const pcl::PointCloud<pcl::PointNormal>& target) {
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  std::size_t n = 0;
-  for (const auto& p : target) {
-    if (!std::isfinite(p.normal_x)) continue;
-    c += Eigen::Vector3d(p.x, p.y, p.z), ++n;
-  }
-  if (n < 6) return true;
-  c /= static_cast<double>(n);
-  Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
-  for (const auto& p : target) {
-    if (!std::isfinite(p.normal_x)) continue;
-    const Eigen::Vector3d normal(p.normal_x, p.normal_y, p.normal_z);
-    Eigen::Matrix<double, 6, 1> row;
-    row << (Eigen::Vector3d(p.x, p.y, p.z) - c).cross(normal), normal;
-    A += row * row.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(A);
-  const auto& ev = eig.eigenvalues();  // ascending
-  return !(ev(5) > 0.0) || ev(0) <= 1e-9 * ev(5);
-}
-
-
-// Range-limited, thinned to at most max_input_points, voxel-downsampled, then evenly subsampled to max_points.
-pcl::PointCloud<pcl::PointXYZ>::Ptr ToDownsampledCloud(const std::vector<Eigen::Vector3f>& points, const IcpParams& p,
-                                                       int max_points) {
+// Range-limited and thinned evenly to at most max_input_points.
+pcl::PointCloud<pcl::PointXYZ>::Ptr Thinned(const std::vector<Eigen::Vector3f>& points, const IcpParams& p) {
   auto raw = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
   const float max_sq = static_cast<float>(p.max_range_m * p.max_range_m);
-  const std::size_t stride =
-      p.max_input_points > 0 ? (points.size() + p.max_input_points - 1) / static_cast<std::size_t>(p.max_input_points) : 1;
-  raw->reserve(points.size() / std::max<std::size_t>(stride, 1) + 1);
-  for (std::size_t i = 0; i < points.size(); i += std::max<std::size_t>(stride, 1)) {
+  const std::size_t stride = std::max<std::size_t>(
+      1, p.max_input_points > 0 ? (points.size() + p.max_input_points - 1) / static_cast<std::size_t>(p.max_input_points) : 1);
+  raw->reserve(points.size() / stride + 1);
+  for (std::size_t i = 0; i < points.size(); i += stride) {
     const auto& q = points[i];
-    if (q.squaredNorm() <= max_sq) raw->push_back(pcl::PointXYZ(q.x(), q.y(), q.z()));
+    if (q.allFinite() && q.squaredNorm() <= max_sq) raw->push_back(pcl::PointXYZ(q.x(), q.y(), q.z()));
   }
+  return raw;
+}
+
+// Voxel-downsampled, then evenly subsampled to at most max_points; *thinning = voxels per kept point (>= 1).
+pcl::PointCloud<pcl::PointXYZ>::Ptr Downsampled(const pcl::PointCloud<pcl::PointXYZ>::Ptr& raw, double voxel_m,
+                                                int max_points, double* thinning = nullptr) {
   auto voxel = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+  if (raw->empty()) return voxel;
   pcl::VoxelGrid<pcl::PointXYZ> grid;
   grid.setInputCloud(raw);
-  grid.setLeafSize(static_cast<float>(p.voxel_m), static_cast<float>(p.voxel_m), static_cast<float>(p.voxel_m));
+  grid.setLeafSize(static_cast<float>(voxel_m), static_cast<float>(voxel_m), static_cast<float>(voxel_m));
   grid.filter(*voxel);
+  if (thinning) *thinning = std::max(1.0, static_cast<double>(voxel->size()) / std::max(1, max_points));
   if (static_cast<int>(voxel->size()) <= max_points) return voxel;
   auto even = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
   const double step = static_cast<double>(voxel->size()) / max_points;
@@ -78,15 +67,18 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr ToDownsampledCloud(const std::vector<Eigen::
 IcpTarget PrepareIcpTarget(const std::vector<Eigen::Vector3f>& target, const IcpParams& params) {
   IcpTarget out;
   out.params = params;
-  const auto tgt = ToDownsampledCloud(target, params, params.max_points);
+  double thinning = 1.0;
+  const auto tgt = Downsampled(Thinned(target, params), params.voxel_m, params.max_points, &thinning);
   auto data = std::make_shared<IcpTargetData>();
   data->cloud = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+  data->spacing_m = params.voxel_m * std::sqrt(thinning);
   if (tgt->size() >= 10) {
     // Normals of the target only: point-to-plane ICP measures the residual along the target's normals.
     pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> estimation;
     estimation.setInputCloud(tgt);
     estimation.setSearchMethod(std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
-    estimation.setKSearch(12);
+    estimation.setKSearch(params.normal_neighbours);
+    estimation.setViewPoint(0.0f, 0.0f, 0.0f);  // the current camera: normals face it
     pcl::PointCloud<pcl::Normal> normals;
     estimation.compute(normals);
     data->cloud->reserve(tgt->size());
@@ -97,32 +89,162 @@ IcpTarget PrepareIcpTarget(const std::vector<Eigen::Vector3f>& target, const Icp
       p.normal_x = normals[i].normal_x, p.normal_y = normals[i].normal_y, p.normal_z = normals[i].normal_z;
       p.curvature = normals[i].curvature;
       data->cloud->push_back(p);
+      data->xyz.insert(data->xyz.end(), {p.x, p.y, p.z});
     }
   }
-  data->tree = std::make_shared<pcl::search::KdTree<pcl::PointNormal>>();
-  if (!data->cloud->empty()) data->tree->setInputCloud(data->cloud);
+  if (!data->cloud->empty()) {
+    data->index = std::make_unique<flann::Index<flann::L2_Simple<float>>>(
+        flann::Matrix<float>(data->xyz.data(), data->cloud->size(), 3), flann::KDTreeSingleIndexParams(15));
+    data->index->buildIndex();
+  }
   out.points = data->cloud->size();
   out.data = std::move(data);
   return out;
 }
 
-Matrix6d PoseCovarianceFromSigma(double sigma_translation_m, double sigma_rotation_rad) {
-  Matrix6d c = Matrix6d::Zero();
-  c.diagonal() << Eigen::Vector3d::Constant(sigma_translation_m * sigma_translation_m),
-      Eigen::Vector3d::Constant(sigma_rotation_rad * sigma_rotation_rad);
-  return c;
+namespace {
+
+using namespace registration_detail;
+
+// The source at one level of the coarse-to-fine schedule.
+struct Level {
+  std::vector<Eigen::Vector3d> points;
+  double voxel_m = 0.0;
+  double range_m = 0.0;
+};
+
+std::vector<Eigen::Vector3d> ToEigen(const pcl::PointCloud<pcl::PointXYZ>& cloud) {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(cloud.size());
+  for (const auto& p : cloud) out.emplace_back(p.x, p.y, p.z);
+  return out;
 }
 
-// Placeholder until issue 13's registration lands: both map-frame covariances rotated into the current camera frame
-// and added (the lever arm of a rotation error is ignored).
-Matrix6d RelativePoseCovariance(const Eigen::Isometry3d& X_MapCurrent, const Matrix6d& covariance_current_map,
-                                const Eigen::Isometry3d& X_MapEarlier, const Matrix6d& covariance_earlier_map) {
-  (void)X_MapEarlier;
-  Matrix6d R = Matrix6d::Zero();
-  const Eigen::Matrix3d R_CM = X_MapCurrent.linear().transpose();
-  R.topLeftCorner<3, 3>() = R_CM, R.bottomRightCorner<3, 3>() = R_CM;
-  return R * (covariance_current_map + covariance_earlier_map) * R.transpose();
+// The fit of a pose: the share of source points that agree with the target (their nearest target point within the
+// finest correspondence range, their point-to-plane distance within 3 sigma of the noise model), and the report's
+// fitness (mean squared point distance within the fitness range).
+struct Fit {
+  double agreement = 0.0;
+  double fitness_m2 = std::numeric_limits<double>::infinity();
+};
+
+class Aligner {
+ public:
+  Aligner(const IcpTargetData& target, const IcpParams& params, const PriorWhitening& prior)
+      : tgt_(target), params_(params), prior_(prior) {}
+
+  // The nearest target point of every point of `src` moved by X (squared distance, index; -1 when none).
+  void Nearest(const std::vector<Eigen::Vector3d>& src, const Eigen::Isometry3d& X) const {
+    query_.resize(src.size() * 3);
+    moved_.resize(src.size());
+    for (std::size_t i = 0; i < src.size(); ++i) {
+      moved_[i] = X * src[i];
+      const bool finite = moved_[i].allFinite();
+      for (int k = 0; k < 3; ++k) query_[3 * i + k] = finite ? static_cast<float>(moved_[i](k)) : 1e30f;
+    }
+    index_.assign(src.size(), -1);
+    d2_.assign(src.size(), std::numeric_limits<float>::infinity());
+    if (src.empty()) return;
+    flann::Matrix<float> queries(query_.data(), src.size(), 3), dists(d2_.data(), src.size(), 1);
+    flann::Matrix<int> indices(index_.data(), src.size(), 1);
+    tgt_.index->knnSearch(queries, indices, dists, 1, flann::SearchParams(-1, 0.0f, false));
+  }
+
+  // The point-to-plane pairs of `src` moved by X whose nearest target point lies within range_m, and not so far
+  // to its side that it lies past a surface's edge (the nearest point of a surface beyond its boundary says
+  // nothing about the motion along it).
+  void Match(const std::vector<Eigen::Vector3d>& src, const Eigen::Isometry3d& X, double range_m, double voxel_m,
+             std::vector<PointPair>& pairs) const {
+    pairs.clear();
+    Nearest(src, X);
+    const double max_d2 = range_m * range_m;
+    const double max_side_m = params_.max_side_spacings * std::max(tgt_.spacing_m, voxel_m);
+    const double voxel_var = 0.15 * voxel_m * 0.15 * voxel_m;  // a voxel centroid's offset from the surface
+    for (std::size_t i = 0; i < src.size(); ++i) {
+      if (index_[i] < 0 || !(d2_[i] <= max_d2)) continue;
+      const auto& t = (*tgt_.cloud)[static_cast<std::size_t>(index_[i])];
+      const Eigen::Vector3d q(t.x, t.y, t.z), n(t.normal_x, t.normal_y, t.normal_z);
+      const Eigen::Vector3d& p = moved_[i];
+      const double along = n.dot(p - q);
+      if ((p - q - along * n).norm() > max_side_m) continue;
+      const double sq = SensorSigmaM(t.z), sp = SensorSigmaM(p.z());
+      pairs.push_back({p, q, n, std::sqrt(sq * sq + sp * sp + voxel_var)});
+    }
+  }
+
+  Fit Evaluate(const std::vector<Eigen::Vector3d>& src, const Eigen::Isometry3d& X) const {
+    Nearest(src, X);
+    Fit fit;
+    double sum = 0;
+    std::size_t n = 0, agree = 0;
+    const double fitness_d2 = params_.max_correspondence_m * params_.max_correspondence_m;
+    const double agree_d2 = params_.min_correspondence_m * params_.min_correspondence_m;
+    for (std::size_t i = 0; i < src.size(); ++i) {
+      if (index_[i] < 0 || !(d2_[i] <= fitness_d2)) continue;
+      sum += d2_[i], ++n;
+      const auto& t = (*tgt_.cloud)[static_cast<std::size_t>(index_[i])];
+      const double r = Eigen::Vector3d(t.normal_x, t.normal_y, t.normal_z).dot(moved_[i] - Eigen::Vector3d(t.x, t.y, t.z));
+      const double sigma = std::hypot(SensorSigmaM(t.z), SensorSigmaM(moved_[i].z()));
+      agree += d2_[i] <= agree_d2 && std::abs(r) <= 3.0 * sigma;
+    }
+    if (n) fit.fitness_m2 = sum / n;
+    fit.agreement = src.empty() ? 0.0 : static_cast<double>(agree) / src.size();
+    return fit;
+  }
+
+  NormalEquations Equations(const std::vector<PointPair>& pairs, double residual_scale2 = 1.0) const {
+    const double inflation = CorrelationInflation(pairs, params_.correlation_patch_m) * std::max(1.0, residual_scale2);
+    return Accumulate(pairs, params_.huber_k, inflation);
+  }
+
+  // MAP cost of X at a level: the data's Huber cost (an unmatched point costs as much as one at the range), per
+  // independent patch, plus the prior's.
+  double Cost(const Level& level, const Eigen::Isometry3d& X) const {
+    Match(level.points, X, level.range_m, level.voxel_m, pairs_);
+    if (pairs_.empty()) return std::numeric_limits<double>::infinity();
+    const NormalEquations ne = Equations(pairs_);
+    double sigma = 0;
+    for (const auto& pp : pairs_) sigma += pp.sigma_m;
+    sigma /= pairs_.size();
+    const double inflation = CorrelationInflation(pairs_, params_.correlation_patch_m);
+    const double unmatched = static_cast<double>(level.points.size() - pairs_.size());
+    const Vector6d z = prior_.S_inv * LogMotion(X);
+    return (ne.cost + unmatched * HuberCost(level.range_m / sigma, params_.huber_k)) / inflation + 0.5 * z.squaredNorm();
+  }
+
+  // Gauss-Newton MAP steps at one level from X; false if the pose became non-finite or nothing matched.
+  bool Refine(const Level& level, int max_iterations, Eigen::Isometry3d& X, int& iterations) const {
+    for (int it = 0; it < max_iterations; ++it) {
+      Match(level.points, X, level.range_m, level.voxel_m, pairs_);
+      if (pairs_.size() < 6) return false;
+      const MapStep step = SolveMapStep(Equations(pairs_), prior_, LogMotion(X), params_.min_relative_information);
+      ++iterations;
+      if (!step.delta.allFinite()) return false;
+      X = ExpMotion(step.delta) * X;
+      if (step.delta.head<3>().norm() + step.delta.tail<3>().norm() < params_.step_epsilon) break;
+    }
+    return X.matrix().allFinite();
+  }
+
+  std::vector<PointPair>& pairs() const { return pairs_; }
+
+ private:
+  const IcpTargetData& tgt_;
+  const IcpParams& params_;
+  const PriorWhitening& prior_;
+  mutable std::vector<PointPair> pairs_;
+  mutable std::vector<float> query_, d2_;
+  mutable std::vector<int> index_;
+  mutable std::vector<Eigen::Vector3d> moved_;
+};
+
+std::string Format(const char* fmt, double a, double b = 0, double c = 0, double d = 0) {
+  char buffer[256];
+  std::snprintf(buffer, sizeof buffer, fmt, a, b, c, d);
+  return buffer;
 }
+
+}  // namespace
 
 IcpResult AlignIcp(const std::vector<Eigen::Vector3f>& source, const IcpTarget& target) {
   return AlignIcp(source, target,
@@ -136,91 +258,101 @@ IcpResult AlignIcp(const std::vector<Eigen::Vector3f>& source, const IcpTarget& 
   IcpResult result;
   result.covariance = prior_covariance;
   result.verdict = "not enough points";
-  const auto src_xyz = ToDownsampledCloud(source, params, params.max_source_points);
-  result.source_points = src_xyz->size();
+  const auto raw = Thinned(source, params);
+  // The coarse-to-fine schedule: the source at each level's voxel size, shrinking correspondence ranges.
+  std::vector<Level> levels;
+  double range = params.coarse_correspondence_m;
+  for (std::size_t l = 0; l < params.level_voxel_m.size(); ++l) {
+    Level level;
+    level.voxel_m = std::max(params.level_voxel_m[l], params.voxel_m);
+    level.points = ToEigen(*Downsampled(raw, level.voxel_m, params.level_max_points[l]));
+    level.range_m = std::max(range, params.min_correspondence_m);
+    range *= 0.5;
+    levels.push_back(std::move(level));
+  }
+  const std::vector<Eigen::Vector3d>& fine = levels.back().points;
+  result.source_points = fine.size();
   result.target_points = target.points;
-  if (src_xyz->size() < 10 || target.points < 10 || !target.data) return result;
-  const IcpTargetData& tgt = *target.data;
-  if (PointToPlaneIsSingular(*tgt.cloud)) {  // not converged: the prior pose stands
-    result.verdict = "singular point-to-plane problem";
+  if (fine.size() < 10 || target.points < 10 || !target.data || !target.data->index) return result;
+  if (!prior_covariance.allFinite()) {
+    result.verdict = "non-finite prior covariance";
     return result;
   }
-  // The source needs no normals (point-to-plane uses the target's); zero normals keep PCL's type uniform.
-  auto src = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
-  src->reserve(src_xyz->size());
-  for (const auto& q : *src_xyz) {
-    pcl::PointNormal p;
-    p.x = q.x, p.y = q.y, p.z = q.z;
-    p.normal_x = p.normal_y = p.normal_z = 0.0f, p.curvature = 0.0f;
-    src->push_back(p);
-  }
-  // Mean squared distance to the nearest target point over the source points within the correspondence range,
-  // for any candidate transform (PCL's own getFitnessScore compares squared distances with an unsquared range).
-  const auto fitness = [&](const Eigen::Matrix4f& T) {
-    pcl::Indices index(1);
-    std::vector<float> d2(1);
-    const double max_d2 = params.max_correspondence_m * params.max_correspondence_m;
-    double sum = 0;
-    std::size_t n = 0;
-    pcl::PointNormal q;
-    for (const auto& p : *src) {
-      const Eigen::Vector4f t = T * Eigen::Vector4f(p.x, p.y, p.z, 1.0f);
-      q.x = t.x(), q.y = t.y(), q.z = t.z();
-      if (!t.allFinite()) continue;
-      if (tgt.tree->nearestKSearch(q, 1, index, d2) > 0 && d2[0] <= max_d2) sum += d2[0], ++n;
+  const PriorWhitening prior = Whiten(prior_covariance);
+  const Aligner aligner(*target.data, params, prior);
+  const Fit before = aligner.Evaluate(fine, Eigen::Isometry3d::Identity());
+  result.fitness_before_m2 = before.fitness_m2;
+
+  // Multi-start at the coarse level: the prior pose and +-start_sigmas along the prior's widest translations.
+  std::vector<Eigen::Isometry3d> starts = {Eigen::Isometry3d::Identity()};
+  {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(prior_covariance.topLeftCorner<3, 3>());
+    for (int k = 0; k < std::min(params.extra_start_directions, 3); ++k) {
+      const Eigen::Vector3d t = eig.eigenvectors().col(2 - k) * std::sqrt(std::max(0.0, eig.eigenvalues()(2 - k)));
+      for (const double sign : {-1.0, 1.0}) {
+        Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+        X.translation() = sign * params.start_sigmas * t;
+        starts.push_back(X);
+      }
     }
-    return n ? sum / n : std::numeric_limits<double>::infinity();
-  };
-  result.fitness_before_m2 = fitness(Eigen::Matrix4f::Identity());
-  // Point-to-plane ICP: indoor scenes are mostly planes, along which point-to-point ICP slides. Two passes: a coarse
-  // one (a subset of the source, the full correspondence range), then a fine one (all source points, a third of the
-  // range). The target's search tree is reused.
-  auto coarse = src;
-  if (params.coarse_source_points > 0 && static_cast<int>(src->size()) > params.coarse_source_points) {
-    coarse = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
-    const double step = static_cast<double>(src->size()) / params.coarse_source_points;
-    for (int i = 0; i < params.coarse_source_points; ++i) coarse->push_back((*src)[static_cast<std::size_t>(i * step)]);
   }
-  Eigen::Matrix4f T = Eigen::Matrix4f::Identity();
-  bool converged = true;
-  for (const bool fine : {false, true}) {
-    const double range = fine ? params.max_correspondence_m / 3.0 : params.max_correspondence_m;
-    pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> icp;
-    icp.setSearchMethodTarget(tgt.tree, /*force_no_recompute=*/true);
-    icp.setInputSource(fine ? src : coarse);
-    icp.setInputTarget(tgt.cloud);
-    icp.setMaxCorrespondenceDistance(range);
-    icp.setMaximumIterations(params.max_iterations);
-    icp.setTransformationEpsilon(fine ? params.transformation_epsilon : params.coarse_transformation_epsilon);
-    icp.setEuclideanFitnessEpsilon(params.fitness_epsilon);
-    pcl::PointCloud<pcl::PointNormal> aligned;
-    icp.align(aligned, T);
-    converged = icp.hasConverged();
-    if (!converged) break;
-    // Degenerate geometry (a single plane: singular normal equations) can yield a non-finite transform; the pose is
-    // then kept as it was (and nothing non-finite reaches PCL's kd-tree, whose assertion would abort the process).
-    const Eigen::Matrix4f next = icp.getFinalTransformation();
-    if (!next.allFinite()) {
-      converged = false;
-      break;
-    }
-    T = next;
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  double best_cost = std::numeric_limits<double>::infinity();
+  bool converged = false;
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    Eigen::Isometry3d start = starts[k];
+    if (!aligner.Refine(levels.front(), params.level_iterations[0], start, result.iterations)) continue;
+    // A start away from the prior pose must explain the data clearly better (else, along a direction the data
+    // hardly sees, it would stay where it started).
+    const double cost = aligner.Cost(levels.front(), start) + (k == 0 ? 0.0 : params.start_margin);
+    if (cost < best_cost) best_cost = cost, X = start, converged = true;
   }
+  for (std::size_t l = 1; converged && l < levels.size(); ++l) converged = aligner.Refine(levels[l], params.level_iterations[l], X, result.iterations);
+
+  // Conditioning and the posterior at the final pose: the information is deflated by the residuals' own scale
+  // when they are larger than the noise model says.
+  std::vector<PointPair>& pairs = aligner.pairs();
+  if (converged) aligner.Match(fine, X, levels.back().range_m, levels.back().voxel_m, pairs);
+  converged = converged && pairs.size() >= 6;
   result.converged = converged;
-  result.fitness_m2 = fitness(T);
-  result.correction.matrix() = T.cast<double>();
-  // Placeholder acceptance until issue 13's registration lands: converged, a better fit, and within fixed bounds.
-  const double angle = Eigen::AngleAxisd(result.correction.linear()).angle();
   if (!converged) {
     result.verdict = "did not converge";
-  } else if (!(result.fitness_m2 < result.fitness_before_m2)) {
-    result.verdict = "no better fit";
-  } else if (result.correction.translation().norm() > 0.15 || angle > 0.105) {
-    result.verdict = "correction beyond 15 cm / 6 deg";
+    return result;
+  }
+  result.correction = X;
+  result.inlier_fraction = static_cast<double>(pairs.size()) / fine.size();
+  double sq = 0;
+  for (const auto& pp : pairs) sq += std::pow(pp.n.dot(pp.p - pp.q), 2);
+  result.residual_rms_m = std::sqrt(sq / pairs.size());
+  const NormalEquations unscaled = aligner.Equations(pairs);
+  const double scale2 = unscaled.weight_sum > 6 ? unscaled.chi2 / (unscaled.weight_sum - 6) : 1.0;
+  const Vector6d xi = LogMotion(X);
+  const MapStep step = SolveMapStep(aligner.Equations(pairs, scale2), prior, xi, params.min_relative_information);
+  result.relative_information = step.relative_information;
+  result.unobservable_directions = step.unobservable;
+  result.mahalanobis2 = xi.dot(prior.information * xi);
+  const Fit after = aligner.Evaluate(fine, X);
+  result.fitness_m2 = after.fitness_m2;
+
+  const double angle_deg = Eigen::AngleAxisd(X.linear()).angle() * 180.0 / 3.14159265358979;
+  const std::string proposed = Format("correction %.1f cm / %.2f deg", X.translation().norm() * 100, angle_deg);
+  if (result.inlier_fraction < params.min_inlier_fraction) {
+    result.verdict = Format("rejected: too little overlap, %.0f %% of the source matched (at least %.0f %%); ",
+                            100 * result.inlier_fraction, 100 * params.min_inlier_fraction) + proposed;
+  } else if (!(after.agreement >= before.agreement * (1.0 - params.fit_tolerance))) {
+    result.verdict = Format("rejected: a worse fit, %.0f %% -> %.0f %% of the source agreeing; ", 100 * before.agreement,
+                            100 * after.agreement) + proposed;
+  } else if (!(result.mahalanobis2 <= params.max_mahalanobis2)) {
+    result.verdict = Format("rejected: inconsistent with the prior, squared Mahalanobis distance %.1f > %.2f; ",
+                            result.mahalanobis2, params.max_mahalanobis2) + proposed;
   } else {
     result.accepted = true;
-    result.verdict = "accepted";
-    result.covariance = PoseCovarianceFromSigma(0.0025, 0.001);
+    result.covariance = PosteriorCovariance(
+        step, prior, PoseCovarianceFromSigma(params.floor_sigma_translation_m, params.floor_sigma_rotation_rad));
+    result.verdict = Format("accepted: %.0f %% -> %.0f %% of the source agreeing, %.1f mm rms, squared Mahalanobis "
+                            "distance %.1f; ", 100 * before.agreement, 100 * after.agreement,
+                            1e3 * result.residual_rms_m, result.mahalanobis2) + proposed +
+                     Format("; %.0f of 6 directions unobservable (kept at the prior)", step.unobservable);
   }
   return result;
 }

@@ -179,6 +179,7 @@ MergeCaseResult RunMergeCase(sim::Setting setting, MergeCase c, std::uint64_t se
     engine::MergeParams merge_params;
     merge_params.strategy = strategy;
     merge_params.beta = options.beta;
+    merge_params.pose_sigma_factor = options.pose_sigma_factor;
     merge_params.frustum_far_m = script.frustum_far_m;
     merge_params.record_decisions = strategy == engine::MergeStrategy::kAlgorithm2;
     std::vector<std::uint8_t> decision(truth.size(), 0);  // at the last viewpoint (see StrategyResult)

@@ -105,6 +105,7 @@ struct MergeCaseOptions {
   double beta = 0.03;
   double pose_error_translation_m = 0.05;  // uniform magnitude in [0, this], random direction, per viewpoint
   double pose_error_rotation_rad = 0.05235987755982989;  // 3 deg: uniform angle in [0, this], random axis
+  double pose_sigma_factor = engine::MergeParams{}.pose_sigma_factor;  // the premises' k (MergeParams)
   std::vector<engine::MergeStrategy> strategies = {kMergeStrategies.begin(), kMergeStrategies.end()};
 };
 

@@ -3,6 +3,7 @@
 // correction error on the injected camera pose errors.
 //   anchordb_eval_merge [--seeds N] [--frames_a N] [--frames_b N] [--case NAME] [--pose_error_cm X]
 //                       [--pose_error_deg X] [--verbose]
+//   anchordb_eval_merge --sweep [--seeds N] [--scene sparse|cluttered] [--level CM DEG]   (issue 13's sweep, 10 seeds)
 // (--pose_error_cm 0 --pose_error_deg 0 shows what the merge reaches with exact poses, without registration error.)
 #include <algorithm>
 #include <cmath>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "tests/eval/merge_cases.h"
+#include "tests/eval/merge_sweep.h"
 
 using namespace anchordb;
 
@@ -46,10 +48,20 @@ int main(int argc, char** argv) {
   int seeds = 3;
   eval::MergeCaseOptions options;
   std::string only;
-  bool verbose = false;
+  bool verbose = false, sweep = false, seeds_given = false;
+  std::vector<sim::SweepSceneKind> sweep_scenes = {sim::SweepSceneKind::kSparse, sim::SweepSceneKind::kCluttered};
+  std::vector<eval::SweepLevel> sweep_levels = eval::AllSweepLevels();
   for (int i = 1; i < argc; ++i) {
     const bool has_value = i + 1 < argc;
-    if (std::strcmp(argv[i], "--seeds") == 0 && has_value) seeds = std::atoi(argv[++i]);
+    if (std::strcmp(argv[i], "--seeds") == 0 && has_value) seeds = std::atoi(argv[++i]), seeds_given = true;
+    else if (std::strcmp(argv[i], "--sweep") == 0) sweep = true;
+    else if (std::strcmp(argv[i], "--scene") == 0 && has_value) {
+      const std::string name = argv[++i];
+      sweep_scenes = {name == "sparse" ? sim::SweepSceneKind::kSparse : sim::SweepSceneKind::kCluttered};
+    } else if (std::strcmp(argv[i], "--level") == 0 && i + 2 < argc) {
+      const double cm = std::atof(argv[++i]), deg = std::atof(argv[++i]);
+      sweep_levels = {{cm / 100.0, deg * std::numbers::pi / 180.0}};
+    }
     else if (std::strcmp(argv[i], "--frames_a") == 0 && has_value) options.frames_a = std::atoi(argv[++i]);
     else if (std::strcmp(argv[i], "--frames_b") == 0 && has_value) options.frames_b = std::atoi(argv[++i]);
     else if (std::strcmp(argv[i], "--case") == 0 && has_value) only = argv[++i];
@@ -58,14 +70,24 @@ int main(int argc, char** argv) {
     } else if (std::strcmp(argv[i], "--pose_error_deg") == 0 && has_value) {
       options.pose_error_rotation_rad = std::atof(argv[++i]) * std::numbers::pi / 180.0;
     }
+    else if (std::strcmp(argv[i], "--pose_sigma_factor") == 0 && has_value) {
+      options.pose_sigma_factor = std::atof(argv[++i]);
+    }
     else if (std::strcmp(argv[i], "--verbose") == 0) verbose = true;
     else {
       std::fprintf(stderr,
                    "usage: %s [--seeds N] [--frames_a N] [--frames_b N] [--case NAME] [--pose_error_cm X] "
-                   "[--pose_error_deg X] [--verbose]\n",
-                   argv[0]);
+                   "[--pose_error_deg X] [--verbose]\n       %s --sweep [--seeds N] [--scene sparse|cluttered] "
+                   "[--level CM DEG]\n",
+                   argv[0], argv[0]);
       return 2;
     }
+  }
+  if (sweep) {
+    eval::SweepOptions sweep_options;
+    sweep_options.pose_sigma_factor = options.pose_sigma_factor;
+    eval::PrintSweepTable(sweep_scenes, sweep_levels, seeds_given ? seeds : 10, sweep_options);
+    return 0;
   }
   constexpr double kDeg = std::numbers::pi / 180.0;
   std::printf("Multi-view ASM evaluation (thesis 3.5.1, appendix A): %d seeds per case and setting; %d frames at each "
@@ -209,7 +231,7 @@ int main(int argc, char** argv) {
                 "and seeds): within theta of the object's own background (Algorithm 1 cannot see it), in front of "
                 "background no earlier viewpoint measured, movable but cleaned away, else the merge's decision at the pixel:\n");
     static constexpr const char* kDecisionNames[kDecisions] = {"none", "fill", "supp", "near", "fov", "occl", "nbhd",
-                                                               "notsee", "farther", "dropout", "rear", "rearnb"};
+                                                               "notsee", "farther", "dropout", "rear", "rearnb", "uncert"};
     std::printf("%-4s %6s %6s %6s %6s", "case", "FN", "theta", "unk", "clean");
     for (const char* d : kDecisionNames) std::printf(" %7s", d);
     std::printf("\n");

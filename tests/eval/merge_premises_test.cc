@@ -17,6 +17,15 @@
 namespace anchordb::engine {
 namespace {
 
+// The scenes are rendered from the poses the merge is given: it is told so (1 mm, 0.03 deg), as a client would.
+const Matrix6d kExactPose = PoseCovarianceFromSigma(0.001, 0.0005);
+
+MergeParams ExactPoses() {
+  MergeParams params;
+  params.current_pose_covariance_map = kExactPose;
+  return params;
+}
+
 constexpr int kObject1 = 11, kObject2 = 12, kObject3 = 13, kObject4 = 14;
 
 // Adds an axis-aligned box (object `id`, created on first use) to the scene.
@@ -41,6 +50,7 @@ PriorModel ObservedFrom(const sim::Scene& scene, const PinholeIntrinsics& K, con
   prior.K = K;
   prior.X_MapCamera = X_A;
   prior.background_m = a.background_m;
+  prior.pose_covariance_map = kExactPose;
   return prior;
 }
 
@@ -81,7 +91,7 @@ TEST(MergePremisesTest, Figure39Situations) {
   SceneModelState b = NewSceneModel(K.width, K.height);
   const sim::Scene now = Room(true, true);
   const sim::Frame first = sim::Render(now, K, X_B, sensor, 50);
-  const MergeResult merged = MergeAndApplyFirstFrame(b, first.depth_mm, 1000.0, {}, {}, K, X_B, {prior}, MergeParams{});
+  const MergeResult merged = MergeAndApplyFirstFrame(b, first.depth_mm, 1000.0, {}, {}, K, X_B, {prior}, ExactPoses());
   sim::Frame last = first;
   for (int i = 1; i < 6; ++i) {
     last = sim::Render(now, K, X_B, sensor, 50 + i);
@@ -111,10 +121,13 @@ TEST(MergePremisesTest, Figure39Situations) {
   EXPECT_GT(r.rear_projected, 0u);
   EXPECT_GT(r.rejected_fov, 0u);
   EXPECT_GT(r.rejected_occlusion, 0u);
+  EXPECT_TRUE(r.fallback.empty()) << r.fallback;
+  // 2.5 sigma of what the registration leaves (at least its floor, 2 mm / 0.11 deg), ~2 m away.
+  EXPECT_LT(r.tolerance_px, 8.0);
 
   // The naive strategy on the same input marks structures A never saw (object 3, the panel's side) as movable
   // or misses object 4; it must do worse on the static objects or on object 4.
-  MergeParams naive;
+  MergeParams naive = ExactPoses();
   naive.strategy = MergeStrategy::kNaive;
   SceneModelState n = NewSceneModel(K.width, K.height);
   MergeAndApplyFirstFrame(n, first.depth_mm, 1000.0, {}, {}, K, X_B, {prior}, naive);
@@ -154,7 +167,7 @@ TEST(MergePremisesTest, RearProjectionStopsWhereTheEarlierCameraSawNoMore) {
   SceneModelState b = NewSceneModel(K.width, K.height);
   const sim::Frame first = sim::Render(room(true), K, X_B, sensor, 50);
   const sim::Frame behind = sim::Render(room(false), K, X_B, sensor, 50);  // what B would see without object 5
-  MergeParams params;
+  MergeParams params = ExactPoses();
   params.record_decisions = true;
   const MergeResult merged = MergeAndApplyFirstFrame(b, first.depth_mm, 1000.0, {}, {}, K, X_B, {prior}, params);
   std::size_t pixels = 0, movable = 0, rear = 0, before_wall = 0, at_far = 0;
@@ -232,6 +245,34 @@ TEST(IcpTest, RecoversAKnownSmallPoseErrorOnARenderedScene) {
   EXPECT_LT(r.fitness_m2, r.fitness_before_m2);
   EXPECT_LT(residual.translation().norm(), 0.01);
   EXPECT_LT(Eigen::AngleAxisd(residual.linear()).angle(), 0.5 * M_PI / 180.0);
+}
+
+// Never worse than no merge: a view of nothing but the floor cannot tell where along the floor (or turned about
+// its normal) the camera stood, so the registration keeps the prior there; with the pose known only to 10 cm /
+// 6 deg the earlier model is not merged, the report says why, and the new model is what a fresh one would be.
+TEST(MergePremisesTest, AnUncertainPoseFallsBackToAFreshModel) {
+  const PinholeIntrinsics K = sim::KinectIntrinsics();
+  sim::Scene floor;
+  AddBox(floor, 1, "static", {3.0, 0.0, -0.05}, {8.0, 8.0, 0.1});
+  const Eigen::Isometry3d X_A = sim::LookAt({0.0, -0.3, 1.2}, {2.5, -0.3, 0.0});
+  const Eigen::Isometry3d X_B = sim::LookAt({0.2, 0.2, 1.2}, {2.5, 0.0, 0.0});
+  PriorModel prior = ObservedFrom(floor, K, X_A);
+  prior.X_MapCamera.translation() += Eigen::Vector3d(0.06, -0.05, 0.0);  // the localisation error, along the floor
+  prior.pose_covariance_map = PoseCovarianceFromSigma(0.1, 0.1);
+  MergeParams params;
+  params.current_pose_covariance_map = PoseCovarianceFromSigma(0.1, 0.1);
+  const sim::Frame first = sim::Render(floor, K, X_B, sim::SensorModel{}, 50);
+  SceneModelState merged_state = NewSceneModel(K.width, K.height);
+  const MergeResult merged = MergeAndApplyFirstFrame(merged_state, first.depth_mm, 1000.0, {}, {}, K, X_B, {prior}, params);
+  const MergeModelReport& r = merged.models.at(0);
+  EXPECT_GT(r.tolerance_px, params.max_pose_tolerance_px) << r.icp.verdict;
+  EXPECT_NE(r.fallback.find("not merged"), std::string::npos) << r.fallback;
+  EXPECT_EQ(r.replaced_farther + r.rear_projected + r.filled_unknown + r.supported, 0u);
+  SceneModelState fresh = NewSceneModel(K.width, K.height);
+  ApplyFrame(fresh, first.depth_mm, 1000.0, {}, {});
+  EXPECT_EQ(merged_state.background_m, fresh.background_m);
+  EXPECT_EQ(merged_state.movable, fresh.movable);
+  std::printf("floor only: %s\n", r.fallback.c_str());
 }
 
 }  // namespace

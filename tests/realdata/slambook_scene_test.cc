@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <numbers>
+#include <random>
 #include <sstream>
 #include <unordered_map>
 
@@ -180,11 +182,52 @@ TEST(SlambookRealData, MergedRealViewsHaveFewMovablePixels) {
     const auto used = scene.merge.models_used.size();
     merged_models += static_cast<int>(used);
     std::printf("view %d: merged %zu earlier model(s), cleaned movable fraction %.4f\n", view, used, fraction);
-    // Issue 4's bar. Measured: 0.00, 0.00, 0.55, 1.14 and 1.81 % for views 1-5 (view 5 merges four earlier models).
+    // Issue 4's bar. Measured: 0.00, 0.00, 0.55, 1.14 and 1.81 % for views 1-5 (view 5 merges four earlier models);
+    // with issue 13's registration and premises 0.00, 0.00, 0.38, 1.04 and 1.18 %.
     EXPECT_LT(fraction, 0.02) << "merged " << used << " model(s), performed " << scene.merge.performed;
     scenes.Close("room", id);
   }
   EXPECT_GE(merged_models, 4);  // every view after the first merged at least one earlier one
+}
+
+// Issue 13, acceptance 3: the same five views with every stored pose off by exactly 3 cm and 2 deg (a random
+// direction and axis per view, 10 seeded draws), as AMCL-class localisation has it: under 2 % movable after cleaning
+// in every merged model, whatever the registration makes of it (corrects it, or the merge falls back).
+TEST(SlambookRealData, MergedRealViewsWithPerturbedPosesHaveFewMovablePixels) {
+  const std::vector<RealView> views = ReadViews();
+  double worst = 0.0;
+  int fallbacks = 0, models = 0;
+  for (std::uint64_t draw = 1; draw <= 10; ++draw) {
+    std::mt19937_64 rng(draw * 7919);
+    const auto uniform = [&](double lo, double hi) {
+      return lo + (hi - lo) * static_cast<double>(rng() >> 11) * (1.0 / 9007199254740992.0);
+    };
+    const auto unit = [&] {
+      const double z = uniform(-1, 1), phi = uniform(0, 2 * std::numbers::pi), r = std::sqrt(1 - z * z);
+      return Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z);
+    };
+    RealRoom room("perturbed" + std::to_string(draw) + ".sqlite");
+    services::SceneService& scenes = room.scenes;
+    int view = 0;
+    for (RealView v : views) {
+      ++view;
+      v.pose.position_m += unit() * 0.03;
+      v.pose.orientation = (Eigen::Quaterniond(Eigen::AngleAxisd(2.0 * std::numbers::pi / 180.0, unit())) *
+                            v.pose.orientation).normalized();
+      const std::int64_t id = room.Observe(v);
+      const services::SceneInfo scene = scenes.Get("room", id);
+      const double fraction = scenes.LayerSummary("room", id, services::SceneLayerKind::kMovable, true).fraction;
+      for (const auto& m : scene.merge.models_used) fallbacks += !m.icp_applied, ++models;
+      worst = std::max(worst, fraction);
+      EXPECT_LT(fraction, 0.02) << "draw " << draw << " view " << view << ": merged "
+                                << scene.merge.models_used.size() << " model(s)";
+      scenes.Close("room", id);
+    }
+  }
+  // Measured: worst 1.48 % (22 of 100 merged models without an applied correction).
+  std::printf("perturbed 3 cm / 2 deg, 10 draws: worst cleaned movable fraction %.4f; %d of %d merged models without "
+              "an applied correction\n", worst, fallbacks, models);
+  RecordProperty("worst_fraction", std::to_string(worst));
 }
 
 }  // namespace
