@@ -20,34 +20,64 @@ SceneModelState NewSceneModel(int width, int height) {
 
 namespace {
 
-// Whether depths a and b (both > 0) differ by more than jump_fraction times the nearer one.
-inline bool Jump(std::uint16_t a, std::uint16_t b, float jump_fraction) {
-  const float lo = static_cast<float>(std::min(a, b)), hi = static_cast<float>(std::max(a, b));
-  return hi - lo > jump_fraction * lo;
+// jump[k] = 1 where the measured pair (a[k], b[k]) differs by more than jump_fraction times its nearer depth:
+// hi - lo > threshold[lo], threshold[d] = floor(jump_fraction * d) (65536 entries, and 0 -> never a jump).
+void PairJumps(const std::uint16_t* __restrict a, const std::uint16_t* __restrict b, std::size_t count,
+               const std::uint32_t* __restrict threshold, std::uint8_t* __restrict jump) {
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::uint32_t lo = std::min(a[k], b[k]), hi = std::max(a[k], b[k]);
+    jump[k] = static_cast<std::uint8_t>(hi - lo > threshold[lo]);
+  }
 }
 
-// Whether pixel (u, v), measured, has a measured 4-neighbour across a jump.
-inline bool IsDepthEdge(const std::uint16_t* d, int u, int v, int width, int height, float jump_fraction) {
-  const std::size_t i = static_cast<std::size_t>(v) * width + u;
-  const std::uint16_t a = d[i];
-  if (u > 0 && d[i - 1] != 0 && Jump(a, d[i - 1], jump_fraction)) return true;
-  if (u + 1 < width && d[i + 1] != 0 && Jump(a, d[i + 1], jump_fraction)) return true;
-  if (v > 0 && d[i - width] != 0 && Jump(a, d[i - width], jump_fraction)) return true;
-  return v + 1 < height && d[i + width] != 0 && Jump(a, d[i + width], jump_fraction);
+// The thresholds of PairJumps for jump_fraction, cached per thread for the last fraction used.
+const std::uint32_t* JumpThresholds(float jump_fraction) {
+  thread_local std::vector<std::uint32_t> table;
+  thread_local float table_fraction = -1.0f;
+  if (table.empty() || table_fraction != jump_fraction) {
+    table.resize(65536);
+    table[0] = 0xFFFFFFFFu;  // no measurement: never a jump
+    for (std::uint32_t d = 1; d < 65536; ++d) {
+      table[d] = static_cast<std::uint32_t>(std::min(std::floor(static_cast<double>(jump_fraction) * d), 4e9));
+    }
+    table_fraction = jump_fraction;
+  }
+  return table.data();
+}
+
+__attribute__((optimize("tree-vectorize"))) void OrInto(const std::uint8_t* __restrict from, std::size_t count, std::uint8_t* __restrict to) {
+  for (std::size_t k = 0; k < count; ++k) to[k] |= from[k];
+}
+
+void FillDepthEdgeMask(std::span<const std::uint16_t> depth, int width, int height, float jump_fraction,
+                       std::vector<std::uint8_t>& mask) {
+  mask.assign(depth.size(), 0);
+  const std::size_t w = static_cast<std::size_t>(width);
+  thread_local std::vector<std::uint8_t> jump;  // one row of pair results, reused
+  jump.resize(w);
+  const std::uint32_t* threshold = JumpThresholds(jump_fraction);
+  for (int v = 0; v < height; ++v) {
+    const std::uint16_t* row = depth.data() + static_cast<std::size_t>(v) * w;
+    std::uint8_t* m = mask.data() + static_cast<std::size_t>(v) * w;
+    if (width > 1) {  // right neighbours: both pixels of the pair
+      PairJumps(row, row + 1, w - 1, threshold, jump.data());
+      OrInto(jump.data(), w - 1, m);
+      OrInto(jump.data(), w - 1, m + 1);
+    }
+    if (v + 1 < height) {  // neighbours below
+      PairJumps(row, row + w, w, threshold, jump.data());
+      OrInto(jump.data(), w, m);
+      OrInto(jump.data(), w, m + w);
+    }
+  }
 }
 
 }  // namespace
 
 std::vector<std::uint8_t> DepthEdgeMask(std::span<const std::uint16_t> depth, int width, int height,
                                         double jump_fraction) {
-  std::vector<std::uint8_t> mask(depth.size(), 0);
-  const float jump = static_cast<float>(jump_fraction);
-  for (int v = 0; v < height; ++v) {
-    for (int u = 0; u < width; ++u) {
-      const std::size_t i = static_cast<std::size_t>(v) * width + u;
-      mask[i] = depth[i] != 0 && IsDepthEdge(depth.data(), u, v, width, height, jump);
-    }
-  }
+  std::vector<std::uint8_t> mask;
+  FillDepthEdgeMask(depth, width, height, static_cast<float>(jump_fraction), mask);
   return mask;
 }
 
@@ -63,14 +93,12 @@ FrameCounts ApplyFrame(SceneModelState& state, std::span<const std::uint16_t> de
   float* s_w = state.weight.data();
   std::uint8_t* s_mov = state.movable.data();
   std::uint8_t* s_dyn = state.dynamic.data();
-  const int width = state.width, height = state.height;
-  const bool drop_edges = params.drop_depth_edges && n == static_cast<std::size_t>(width) * height;
-  // Row by row when filtering edges (pixel coordinates without a division), else one row of all n pixels.
-  const int rows = drop_edges ? height : 1;
-  const std::size_t row_length = drop_edges ? static_cast<std::size_t>(width) : n;
-  for (int v = 0; v < rows; ++v) {
-    for (std::size_t u = 0; u < row_length; ++u) {
-      const std::size_t i = static_cast<std::size_t>(v) * row_length + u;
+  const bool drop_edges = params.drop_depth_edges && n == static_cast<std::size_t>(state.width) * state.height;
+  thread_local std::vector<std::uint8_t> edge;  // scratch reused by the thread's frames
+  if (drop_edges) FillDepthEdgeMask(depth, state.width, state.height, beta, edge);
+  const std::uint8_t* is_edge = drop_edges ? edge.data() : nullptr;
+  {
+    for (std::size_t i = 0; i < n; ++i) {
       const bool in_d = has_mask && dynamic_mask[i] != 0;
       if (in_d && exclude) {  // F'_t = F_t \ D_t
         s_mov[i] = 0;
@@ -78,7 +106,7 @@ FrameCounts ApplyFrame(SceneModelState& state, std::span<const std::uint16_t> de
         ++counts.dynamic;
         continue;
       }
-      if (depth[i] == 0 || (drop_edges && IsDepthEdge(depth.data(), static_cast<int>(u), v, width, height, beta))) {
+      if (depth[i] == 0 || (is_edge && is_edge[i])) {
         ++counts.no_depth;
         continue;
       }
