@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "sim/sensor_artefacts.h"
+
 namespace anchordb::sim {
 namespace {
 
@@ -187,8 +189,6 @@ bool Prepare(const Primitive& prim, const Eigen::Isometry3d& X_CameraWorld, cons
   return true;
 }
 
-double NoiseSigmaM(double z_m) { return 0.0012 + 0.0019 * (z_m - 0.4) * (z_m - 0.4); }
-
 // A uniform double in (0, 1] from 53 random bits (portable, unlike std::uniform_real_distribution).
 double UniformOpenClosed(std::mt19937_64& rng) {
   return (static_cast<double>(rng() >> 11) + 1.0) * (1.0 / 9007199254740992.0);
@@ -205,6 +205,7 @@ void CheckInputs(const Scene& scene, const PinholeIntrinsics& K, const SensorMod
   if (!std::isfinite(sensor.projector_baseline_m) || !std::isfinite(sensor.max_incidence_rad)) {
     throw std::invalid_argument("Render: projector_baseline_m and max_incidence_rad must be finite");
   }
+  detail::CheckSensorModel(sensor);
   for (std::size_t i = 0; i < scene.primitives.size(); ++i) {
     const Primitive& p = scene.primitives[i];
     if (p.object_id < 1) {
@@ -264,9 +265,29 @@ Frame Render(const Scene& scene, const PinholeIntrinsics& K, const Eigen::Isomet
 
   const double cos_max_incidence = std::cos(sensor.max_incidence_rad);
   const Eigen::Vector3d p_CProjector(sensor.projector_baseline_m, 0.0, 0.0);
-  std::mt19937_64 rng(seed);
-  double spare_normal = 0.0;
-  bool have_spare = false;
+  // One standard normal per pixel in raster order, drawn whatever the scene, so the white noise depends on the
+  // seed and the pixel only (the same sequence as the earlier sensor drew).
+  thread_local std::vector<double> white_normal;  // scratch reused by the thread's frames
+  if (sensor.noise) {
+    white_normal.resize(pixel_count);
+    std::mt19937_64 rng(seed);
+    for (std::size_t k = 0; k < pixel_count; k += 2) {
+      // Marsaglia's polar method: two standard normals per accepted point of the unit disc.
+      double a = 0.0, b = 0.0, r2 = 0.0;
+      do {
+        a = 2.0 * UniformOpenClosed(rng) - 1.0;
+        b = 2.0 * UniformOpenClosed(rng) - 1.0;
+        r2 = a * a + b * b;
+      } while (r2 >= 1.0 || r2 == 0.0);
+      const double scale = std::sqrt(-2.0 * std::log(r2) / r2);
+      white_normal[k] = a * scale;
+      if (k + 1 < pixel_count) white_normal[k + 1] = b * scale;
+    }
+  }
+  // The noiseless depth wherever the sensor can measure (range, incidence, shadow); the measurement stage
+  // (sensor_artefacts.h) turns it into the reported depth.
+  thread_local std::vector<double> ideal_m;
+  ideal_m.assign(pixel_count, 0.0);
 
   std::vector<Eigen::Vector3d> row_base;  // per candidate of the row: R_PC * (0, y, 1)
   for (int v = 0; v < height; ++v) {
@@ -279,26 +300,6 @@ Frame Render(const Scene& scene, const PinholeIntrinsics& K, const Eigen::Isomet
     }
     for (int u = 0; u < width; ++u) {
       const std::size_t index = static_cast<std::size_t>(v) * width + u;
-      // One standard normal per pixel, drawn whatever the scene, so noise depends on the seed and pixel only.
-      double standard_normal = 0.0;
-      if (sensor.noise) {
-        if (have_spare) {
-          standard_normal = spare_normal;
-          have_spare = false;
-        } else {
-          // Marsaglia's polar method: two standard normals per accepted point of the unit disc.
-          double a = 0.0, b = 0.0, r2 = 0.0;
-          do {
-            a = 2.0 * UniformOpenClosed(rng) - 1.0;
-            b = 2.0 * UniformOpenClosed(rng) - 1.0;
-            r2 = a * a + b * b;
-          } while (r2 >= 1.0 || r2 == 0.0);
-          const double scale = std::sqrt(-2.0 * std::log(r2) / r2);
-          standard_normal = a * scale;
-          spare_normal = b * scale;
-          have_spare = true;
-        }
-      }
 
       const double x = (u - K.cx) / K.fx;
       double best_t = std::numeric_limits<double>::infinity();
@@ -347,13 +348,21 @@ Frame Render(const Scene& scene, const PinholeIntrinsics& K, const Eigen::Isomet
         }
         if (shadowed) continue;
       }
-      double measured_m = z_m;
-      if (sensor.noise) measured_m += NoiseSigmaM(z_m) * standard_normal;
-      const double mm = std::round(measured_m * 1000.0);
-      frame.depth_mm[index] = static_cast<std::uint16_t>(std::clamp(mm, 1.0, 65535.0));
+      ideal_m[index] = z_m;
     }
   }
+  detail::MeasureDepth(sensor, width, height, seed, ideal_m, white_normal, frame.depth_mm);
   return frame;
+}
+
+SensorModel KindSensor() {
+  SensorModel sensor;
+  sensor.correlated_noise_fraction = 0.0;
+  sensor.quantise_disparity = false;
+  sensor.lateral_jitter = false;
+  sensor.flying_pixels = false;
+  sensor.speckle_dropouts = false;
+  return sensor;
 }
 
 Eigen::Isometry3d LookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {

@@ -16,6 +16,12 @@ enum class DynamicMode {
 
 struct SceneModelParams {
   double beta = 0.03;  // depth-proportional noise factor: theta(d) = beta * d
+  // Input filter for structured-light depth (issue 13): a pixel at a depth discontinuity (DepthEdgeMask with
+  // jump fraction beta) counts as not measured. There a Kinect-like sensor reports flying (mixed) depths between
+  // the two surfaces and edges that wobble by about a pixel from frame to frame (Nguyen et al. 2012); either would
+  // put a static pixel nearer than its background by more than theta and label it movable. Jumps smaller than
+  // theta cannot do that, so only they are kept. Costs the outermost pixel ring of every object its label.
+  bool drop_depth_edges = true;
   DynamicMode dynamic_mode = DynamicMode::kExcludeFromInput;
 };
 
@@ -36,12 +42,19 @@ struct FrameCounts {
   std::size_t reset = 0;       // f farther than s: background reset to f, weight 1 (line 8)
   std::size_t movable = 0;     // f nearer than s: movable (line 11), after the dynamic rule
   std::size_t dynamic = 0;
-  std::size_t no_depth = 0;    // f = 0: nothing updated
+  std::size_t no_depth = 0;    // f = 0, or dropped as a depth edge: nothing updated
 };
+
+// 1 where a measured pixel's depth differs from a measured 4-neighbour's by more than jump_fraction times the
+// nearer of the two (both pixels of such a pair are marked), 0 elsewhere. `depth` is row-major width x height, any
+// units, 0 = no measurement (never marked, never a partner). O(pixels).
+std::vector<std::uint8_t> DepthEdgeMask(std::span<const std::uint16_t> depth, int width, int height,
+                                        double jump_fraction);
 
 // Applies one frame. `depth` holds raw sensor units (e.g. mm) with `units_per_m` of them per metre (1000 for
 // ROS 16UC1, 5000 for TUM); 0 = no measurement. `dynamic_mask` (0/1 per pixel) may be empty. Sizes must match the
-// state (checked by the caller).
+// state (checked by the caller). With params.drop_depth_edges the pixels of DepthEdgeMask(depth, beta) update
+// nothing and keep their labels, as pixels without depth do.
 FrameCounts ApplyFrame(SceneModelState& state, std::span<const std::uint16_t> depth, double units_per_m,
                        std::span<const std::uint8_t> dynamic_mask, const SceneModelParams& params);
 

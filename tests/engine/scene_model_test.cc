@@ -13,6 +13,7 @@ FrameCounts Feed(SceneModelState& s, std::vector<std::uint16_t> mm, std::vector<
                  DynamicMode mode = DynamicMode::kExcludeFromInput) {
   SceneModelParams p;
   p.dynamic_mode = mode;
+  p.drop_depth_edges = false;  // Algorithm 1 alone; the input filter has its own tests (DepthEdgeFilterTest)
   return ApplyFrame(s, mm, 1000.0, dyn, p);
 }
 
