@@ -14,18 +14,24 @@ double NumberOrNaN(const Json& j, const char* key) {
 
 Json MergedModelDocument(const MergedModel& r) {
   const Eigen::Vector3d& t = r.correction_translation_m;
-  return {{"scene", r.scene_id},
+  Json out = {{"scene", r.scene_id},
           {"icp", {{"converged", r.icp_converged}, {"applied", r.icp_applied}, {"fitness_m2", r.fitness_m2},
                    {"fitness_before_m2", r.fitness_before_m2},
                    {"correction", {{"translation_m", {t.x(), t.y(), t.z()}}, {"rotation_rad", r.correction_rotation_rad}}},
-                   {"source_points", r.source_points}, {"target_points", r.target_points},
-                   {"verdict", r.icp_verdict}, {"relative_information", r.relative_information},
-                   {"unobservable_directions", r.unobservable_directions}, {"mahalanobis2", r.mahalanobis2},
-                   {"remaining_sigma", r.remaining_sigma}}},
+                   {"source_points", r.source_points}, {"target_points", r.target_points}}},
           {"pixels", {{"rasterised", r.rasterised}, {"supported", r.supported}, {"replaced_farther", r.replaced_farther},
                       {"rear_projected", r.rear_projected}, {"filled_unknown", r.filled_unknown},
                       {"rejected_fov", r.rejected_fov}, {"rejected_occlusion", r.rejected_occlusion},
                       {"rejected_neighbourhood", r.rejected_neighbourhood}}}};
+  if (!r.icp_verdict.empty()) {  // issue 13's registration (a report of an older release round-trips unchanged)
+    Json& icp = out["icp"];
+    icp["verdict"] = r.icp_verdict;
+    icp["relative_information"] = r.relative_information;
+    icp["unobservable_directions"] = r.unobservable_directions;
+    icp["mahalanobis2"] = r.mahalanobis2;
+    icp["remaining_sigma"] = r.remaining_sigma;
+  }
+  return out;
 }
 
 MergedModel MergedModelFromDocument(const Json& j) {
