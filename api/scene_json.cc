@@ -62,8 +62,30 @@ void AddKeyframe(Json& out, const std::optional<StoredKeyframe>& k) {
 }  // namespace
 
 OpenSceneRequest ParseOpenScene(const Json& body) {
-  json::RejectUnknownKeys(body, {"camera", "pose", "params", "merge", "stamp"});
+  json::RejectUnknownKeys(body, {"camera", "pose", "params", "merge", "stamp", "pose_sigma", "pose_covariance"});
   OpenSceneRequest r;
+  if (body.contains("pose_sigma")) {
+    const Json& s = body["pose_sigma"];
+    if (!s.is_object()) {
+      throw Error(ErrorCode::kInvalidArgument, "pose_sigma must be an object {translation_m, rotation_rad}", "pose_sigma");
+    }
+    json::RejectUnknownKeys(s, {"translation_m", "rotation_rad"}, "pose_sigma");
+    r.pose_sigma = PoseSigma{json::RequireFiniteNumber(s, "translation_m", "pose_sigma"),
+                             json::RequireFiniteNumber(s, "rotation_rad", "pose_sigma")};
+  }
+  if (body.contains("pose_covariance")) {
+    const Json& c = body["pose_covariance"];
+    if (!c.is_array() || c.size() > 36) {
+      throw Error(ErrorCode::kInvalidArgument, "pose_covariance must be an array of 36 numbers (6x6, row-major)",
+                  "pose_covariance");
+    }
+    std::vector<double> v;
+    for (const Json& e : c) {
+      if (!e.is_number()) throw Error(ErrorCode::kInvalidArgument, "pose_covariance must hold numbers only", "pose_covariance");
+      v.push_back(e.get<double>());
+    }
+    r.pose_covariance = std::move(v);  // its length, symmetry and definiteness are the service's to check
+  }
   r.camera = ParseCamera(json::Require(body, "camera"));
   r.X_MapCamera = json::AsPose3(json::Require(body, "pose"), "pose");
   if (body.contains("params")) ParseParams(body["params"], r);
@@ -80,6 +102,9 @@ Json SceneJson(const SceneInfo& s, bool with_keyframes) {
               {"status", NameOf(kSceneStatusNames, s.status)},
               {"camera", docs::CameraDocument(s.camera)},
               {"pose", docs::PoseDocument(s.X_MapCamera)},
+              {"pose_covariance", s.pose_covariance_map ? Json(std::vector<double>(s.pose_covariance_map->data(),
+                                                                                   s.pose_covariance_map->data() + 36))
+                                                        : Json(nullptr)},
               {"params", docs::ParamsDocument(s.params)},
               {"merge", docs::MergeReportDocument(s.merge)},
               {"started_ns", s.started_ns},

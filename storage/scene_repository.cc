@@ -7,7 +7,7 @@ namespace {
 
 constexpr const char* kSceneColumns =
     "id, map_id, status, superseded_by, intrinsics, pose, x_m, y_m, z_m, params, merge_report, started_ns, ended_ns, "
-    "last_frame_ns, frames, state_version, forgotten_ns";
+    "last_frame_ns, frames, state_version, forgotten_ns, pose_covariance";
 
 SceneRecord ReadScene(Statement& s, bool with_state) {
   SceneRecord r;
@@ -28,10 +28,11 @@ SceneRecord ReadScene(Statement& s, bool with_state) {
   r.frames = s.Int(14);
   r.state_version = s.Int(15);
   r.forgotten_ns = OptionalInt(s, 16);
+  if (!s.IsNull(17)) r.pose_covariance_json = s.Text(17);
   if (with_state) {
-    r.background = s.Blob(17);
-    r.weight = s.Blob(18);
-    r.labels = s.Blob(19);
+    r.background = s.Blob(18);
+    r.weight = s.Blob(19);
+    r.labels = s.Blob(20);
   }
   return r;
 }
@@ -40,9 +41,12 @@ SceneRecord ReadScene(Statement& s, bool with_state) {
 
 std::int64_t InsertScene(Connection& c, const SceneRecord& r) {
   Statement s(c, "INSERT INTO scene_models (map_id, status, intrinsics, pose, x_m, y_m, z_m, params, merge_report, "
-                 "started_ns) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+                 "started_ns, pose_covariance) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
   s.Bind(1, r.map_id).Bind(2, r.status).Bind(3, r.intrinsics_json).Bind(4, r.pose_json).Bind(5, r.x_m).Bind(6, r.y_m)
-      .Bind(7, r.z_m).Bind(8, r.params_json).Bind(9, r.merge_report_json).Bind(10, r.started_ns).Run();
+      .Bind(7, r.z_m).Bind(8, r.params_json).Bind(9, r.merge_report_json).Bind(10, r.started_ns);
+  if (r.pose_covariance_json.empty()) s.BindNull(11);
+  else s.Bind(11, r.pose_covariance_json);
+  s.Run();
   return sqlite3_last_insert_rowid(c.handle());
 }
 

@@ -26,6 +26,8 @@ struct SceneRecord {
   std::int64_t frames = 0;
   std::int64_t state_version = 0;
   std::optional<std::int64_t> forgotten_ns;  // forgetting dropped the state of this superseded model
+  // The camera pose's covariance (map frame, 36 numbers row-major as JSON); empty: not given (the default applies).
+  std::string pose_covariance_json;
   // State blobs; empty when not loaded or never persisted.
   std::string background;
   std::string weight;

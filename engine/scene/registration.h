@@ -50,7 +50,7 @@ struct IcpParams {
   // along the prior's `extra_start_directions` widest (whitened) directions; the start with the lowest MAP cost
   // is refined.
   // A start away from the prior pose wins only with a MAP cost lower by start_margin than the prior pose's.
-  int extra_start_directions = 2;
+  int extra_start_directions = 1;
   double start_sigmas = 1.5;
   double start_margin = 3.0;
   double huber_k = 1.5;                     // Huber threshold on residual / sigma (sigma from the sensor model)

@@ -14,7 +14,7 @@ double NumberOrNaN(const Json& j, const char* key) {
 
 Json MergedModelDocument(const MergedModel& r) {
   const Eigen::Vector3d& t = r.correction_translation_m;
-  return {{"scene", r.scene_id},
+  Json out = {{"scene", r.scene_id},
           {"icp", {{"converged", r.icp_converged}, {"applied", r.icp_applied}, {"fitness_m2", r.fitness_m2},
                    {"fitness_before_m2", r.fitness_before_m2},
                    {"correction", {{"translation_m", {t.x(), t.y(), t.z()}}, {"rotation_rad", r.correction_rotation_rad}}},
@@ -23,6 +23,15 @@ Json MergedModelDocument(const MergedModel& r) {
                       {"rear_projected", r.rear_projected}, {"filled_unknown", r.filled_unknown},
                       {"rejected_fov", r.rejected_fov}, {"rejected_occlusion", r.rejected_occlusion},
                       {"rejected_neighbourhood", r.rejected_neighbourhood}}}};
+  if (!r.icp_verdict.empty()) {  // issue 13's registration (a report of an older release round-trips unchanged)
+    Json& icp = out["icp"];
+    icp["verdict"] = r.icp_verdict;
+    icp["relative_information"] = r.relative_information;
+    icp["unobservable_directions"] = r.unobservable_directions;
+    icp["mahalanobis2"] = r.mahalanobis2;
+    icp["remaining_sigma"] = r.remaining_sigma;
+  }
+  return out;
 }
 
 MergedModel MergedModelFromDocument(const Json& j) {
@@ -43,6 +52,16 @@ MergedModel MergedModelFromDocument(const Json& j) {
   r.correction_rotation_rad = NumberOrNaN(correction, "rotation_rad");
   r.source_points = icp.value("source_points", std::size_t{0});
   r.target_points = icp.value("target_points", std::size_t{0});
+  // Issue 13's fields (absent from older reports: empty, zeros).
+  r.icp_verdict = icp.value("verdict", std::string());
+  const auto six = [&icp](const char* key, std::array<double, 6>& out) {
+    const Json a = icp.value(key, Json::array());
+    for (std::size_t k = 0; k < 6; ++k) out[k] = a.is_array() && k < a.size() && a[k].is_number() ? a[k].get<double>() : 0.0;
+  };
+  six("relative_information", r.relative_information);
+  six("remaining_sigma", r.remaining_sigma);
+  r.unobservable_directions = icp.value("unobservable_directions", 0);
+  r.mahalanobis2 = NumberOrNaN(icp, "mahalanobis2");
   const Json px = j.value("pixels", Json::object());
   r.rasterised = px.value("rasterised", std::size_t{0});
   r.supported = px.value("supported", std::size_t{0});

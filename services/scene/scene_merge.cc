@@ -4,6 +4,7 @@
 // result is committed by a short write that first checks that the earlier models are still as read.
 #include "engine/scene/merge.h"
 #include "engine/scene/projection.h"
+#include "services/scene/scene_pose_covariance.h"
 #include "services/scene/scene_service.h"
 #include "services/scene/scene_service_internal.h"
 
@@ -41,6 +42,11 @@ MergedModel ReportOf(const engine::MergeModelReport& r) {
   m.correction_rotation_rad = Eigen::AngleAxisd(r.icp.correction.linear()).angle();
   m.source_points = r.icp.source_points;
   m.target_points = r.icp.target_points;
+  m.icp_verdict = r.icp.verdict;
+  m.relative_information = r.icp.relative_information;
+  m.unobservable_directions = r.icp.unobservable_directions;
+  m.mahalanobis2 = r.icp.mahalanobis2;
+  for (int k = 0; k < 6; ++k) m.remaining_sigma[k] = std::sqrt(std::max(0.0, r.icp.covariance(k, k)));
   m.rasterised = r.rasterised_pixels;
   m.supported = r.supported;
   m.replaced_farther = r.replaced_farther;
@@ -95,6 +101,7 @@ SceneService::PriorSnapshot SceneService::ReadPriors(const Model& m) {
       prior.K = docs::CameraFromDocument(json::Json::parse(full->intrinsics_json));
       s.poses.push_back(StoredPose(full->pose_json));
       prior.X_MapCamera = engine::ToIsometry(s.poses.back());
+      prior.pose_covariance_map = scene_pose::StoredOrDefault(full->pose_covariance_json, merge_);
       prior.background_m = DecodeAs<float>(full->background, BlobElement::kF32, static_cast<std::size_t>(prior.K.width) * prior.K.height);
       s.priors.push_back(std::move(prior));
     }
@@ -111,6 +118,7 @@ FrameResult SceneService::AddMergingFrame(Model& m, const std::vector<std::uint1
   params.beta = m.params.model.beta;
   params.frustum_far_m = merge_.frustum_far_m;
   params.strategy = m.merge.strategy;
+  params.current_pose_covariance_map = scene_pose::StoredOrDefault(m.record.pose_covariance_json, merge_);
   // Read, merge without holding the write lock, then commit if the earlier models are still as read; the merge is
   // redone once from a fresh read if they changed meanwhile. The merged state is checkpointed with the frame (its
   // journal row, its begin keyframe) in one transaction, so a replay never merges again.

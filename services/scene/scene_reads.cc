@@ -1,5 +1,6 @@
 // The read side of scene models: descriptions, lists, layers and keyframes.
 #include "engine/scene/depth_image.h"
+#include "services/scene/scene_pose_covariance.h"
 #include "services/scene/scene_service.h"
 #include "services/scene/scene_service_internal.h"
 
@@ -24,6 +25,7 @@ SceneInfo InfoFromRecord(const storage::SceneRecord& r) {
   info.status = StoredValue(kSceneStatusNames, r.status, "scene status");
   info.camera = docs::CameraFromDocument(json::Json::parse(r.intrinsics_json));
   info.X_MapCamera = docs::PoseFromDocument(json::Json::parse(r.pose_json));
+  info.pose_covariance_map = scene_pose::FromDocument(r.pose_covariance_json);
   info.params = docs::ParamsFromDocument(json::Json::parse(r.params_json));
   info.merge = docs::MergeReportFromDocument(json::Json::parse(r.merge_report_json));
   info.started_ns = r.started_ns;

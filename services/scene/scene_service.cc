@@ -2,6 +2,7 @@
 
 #include "engine/scene/depth_image.h"
 #include "engine/scene/projection.h"
+#include "services/scene/scene_pose_covariance.h"
 #include "services/scene/scene_service_internal.h"
 
 namespace anchordb::services {
@@ -70,6 +71,7 @@ SceneService::~SceneService() {
 
 SceneInfo SceneService::Open(const std::string& map, const OpenSceneRequest& request) {
   CheckOpenRequest(request, limits_.max_image_side);
+  const engine::Matrix6d pose_covariance = scene_pose::Resolve(request, merge_);
   const PinholeIntrinsics& K = request.camera;
   const Pose3& pose = request.X_MapCamera;
   const std::int64_t stamp = request.stamp_ns.value_or(clock_.NowNs());
@@ -81,6 +83,7 @@ SceneInfo SceneService::Open(const std::string& map, const OpenSceneRequest& req
   r.map_id = map;
   r.intrinsics_json = docs::CameraDocument(K).dump();
   r.pose_json = docs::PoseDocument(pose).dump();
+  r.pose_covariance_json = scene_pose::Document(pose_covariance);
   r.x_m = pose.position_m.x();
   r.y_m = pose.position_m.y();
   r.z_m = pose.position_m.z();

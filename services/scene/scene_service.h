@@ -41,7 +41,11 @@ struct SceneLimits : engine::SettleParams {  // settle_frames, settle_min_change
 
 // Which earlier models a new one merges (3.3.3: max_candidates, max_age_s, candidate_radius_m, min_overlap,
 // frustum_far_m) and which it supersedes (3.3.4: supersede_distance_m, supersede_angle_rad).
-struct MergeSettings : engine::MergeCandidateParams, engine::SupersessionParams {};
+struct MergeSettings : engine::MergeCandidateParams, engine::SupersessionParams {
+  // The localisation uncertainty of a scene model's pose when the client gives none (AMCL-class: 2-5 cm, 1-3 deg).
+  double pose_sigma_translation_m = 0.03;
+  double pose_sigma_rotation_rad = 0.035;
+};
 
 class SceneService {
  public:

@@ -23,6 +23,10 @@ void BindSceneSettings(SettingsBinder& b, SceneLimits& scene, MergeSettings& mer
   b.Bind("merge_frustum_far_m", "rear boundary of a view frustum, for overlap and rear projection [m]", &merge.frustum_far_m, 0.5, 50);
   b.Bind("supersede_distance_m", "a new scene model this close to an earlier one (and looking alike) supersedes it [m]",
          &merge.supersede_distance_m, 0, 10);
+  b.Bind("scene_pose_sigma_translation_m", "the localisation error of a scene model's camera position when the client "
+         "gives no pose_sigma or pose_covariance (standard deviation per map axis) [m]", &merge.pose_sigma_translation_m, 0, 10);
+  b.Bind("scene_pose_sigma_rotation_rad", "the same for its orientation (standard deviation about each map axis) [rad]",
+         &merge.pose_sigma_rotation_rad, 0, 3.1416);
   b.Bind("supersede_angle_rad", "largest angle between viewing directions for supersession [rad]", &merge.supersede_angle_rad, 0, 3.1416);
 }
 

@@ -3,6 +3,7 @@
 // the camera's optical frame (REP-103: z forward, x right, y down) in the map frame. Depths are in metres unless a
 // name says otherwise; stamps are nanoseconds since the Unix epoch.
 #include <Eigen/Core>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <initializer_list>
@@ -67,9 +68,20 @@ struct SceneParams {
 
 // Opens a scene model. Errors: kNotFound (map), kUnprocessable (camera outside [1, max_image_side] or fx, fy <= 0;
 // beta outside (0, 1]; depth_scale outside (0, 1e6]).
+// The localisation uncertainty of a camera pose as two standard deviations (each axis, map frame).
+struct PoseSigma {
+  double translation_m = 0.0;
+  double rotation_rad = 0.0;
+};
+
 struct OpenSceneRequest {
   PinholeIntrinsics camera;
   Pose3 X_MapCamera;
+  // The pose's uncertainty (issue 13), at most one of the two: sigmas, or a ROS-style 6x6 covariance (36 numbers,
+  // row-major, map frame, [tx ty tz rx ry rz]). Neither: the setting's default. Stored with the model; the merge
+  // uses it for this model's pose and, later, when this model is an earlier one.
+  std::optional<PoseSigma> pose_sigma;
+  std::optional<std::vector<double>> pose_covariance;
   SceneParams params;
   bool merge = true;  // merge earlier models of this place with the first frame (3.3.3)
   engine::MergeStrategy merge_strategy = engine::MergeStrategy::kAlgorithm2;
@@ -87,6 +99,11 @@ struct MergedModel {
   double correction_rotation_rad = 0.0;
   std::size_t source_points = 0;
   std::size_t target_points = 0;
+  std::string icp_verdict;            // why the correction was or was not applied (engine::IcpResult::verdict)
+  std::array<double, 6> relative_information{};  // the registration's conditioning (engine::IcpResult)
+  int unobservable_directions = 0;
+  double mahalanobis2 = 0.0;
+  std::array<double, 6> remaining_sigma{};  // sqrt of the remaining covariance's diagonal [m, m, m, rad, rad, rad]
   std::size_t rasterised = 0;         // pixel counts, see engine::MergeModelReport
   std::size_t supported = 0;
   std::size_t replaced_farther = 0;
@@ -133,6 +150,7 @@ struct SceneInfo {
   SceneStatus status = SceneStatus::kObserving;
   PinholeIntrinsics camera;
   Pose3 X_MapCamera;  // as opened
+  std::optional<engine::Matrix6d> pose_covariance_map;  // as opened (nullopt: opened before it was stored)
   SceneParams params;
   MergeReport merge;
   std::int64_t started_ns = 0;
