@@ -37,7 +37,7 @@ TEST(DepthEdgeFilterTest, MarksBothSidesOfAJumpAndNothingElse) {
 
 TEST(DepthEdgeFilterTest, FlyingPixelsAndAWobblingStaticEdgeDoNotBecomeMovable) {
   SceneModelParams with_filter, without_filter;
-  without_filter.drop_depth_edges = false;
+  with_filter.drop_depth_edges = true;
   SceneModelState a = NewSceneModel(kW, kH), b = NewSceneModel(kW, kH);
   // Nothing moves; the box's right edge wobbles by a pixel and a flying pixel (1.5 m) sits on its left edge.
   for (int frame = 0; frame < 6; ++frame) {
@@ -57,7 +57,8 @@ TEST(DepthEdgeFilterTest, FlyingPixelsAndAWobblingStaticEdgeDoNotBecomeMovable) 
 
 TEST(DepthEdgeFilterTest, AnObjectThatAppearsIsMovableExceptItsOutermostRing) {
   SceneModelState s = NewSceneModel(kW, kH);
-  const SceneModelParams params;
+  SceneModelParams params;
+  params.drop_depth_edges = true;
   const std::vector<std::uint16_t> wall(kW * kH, 2000);
   ApplyFrame(s, wall, 1000.0, {}, params);
   std::vector<std::uint16_t> d = wall;

@@ -94,6 +94,9 @@ AsmResult RunAsmCase(sim::Setting setting_id, AsmCase c, std::uint64_t seed, con
   engine::SceneModelState state = engine::NewSceneModel(K.width, K.height);
   engine::SceneModelParams params;
   params.beta = options.beta;
+  // The product's input filter for structured-light depth (issue 13): without it the default sensor's flying
+  // pixels and wobbling edges take A0's cleaned + zone F1 in TA to 0.963, below the thesis' 0.973 (sim/README.md).
+  params.drop_depth_edges = options.drop_depth_edges;
   sim::Frame last;
   const int total = options.frames_before + options.frames_after;
   for (int i = 0; i < total; ++i) {

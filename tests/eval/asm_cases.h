@@ -31,6 +31,7 @@ struct AsmOptions {
   int frames_after = 10;
   int zone_radius_px = 2;
   double beta = 0.03;
+  bool drop_depth_edges = true;  // SceneModelParams::drop_depth_edges
 };
 
 AsmResult RunAsmCase(sim::Setting setting, AsmCase c, std::uint64_t seed, const AsmOptions& options = {});

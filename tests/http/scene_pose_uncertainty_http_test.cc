@@ -6,6 +6,7 @@
 #include "engine/scene/depth_image.h"
 #include "sim/renderer.h"
 #include "tests/engine/registration_scenes.h"
+#include "tests/support/scene_request_json.h"
 #include "tests/support/server_process.h"
 #include "tests/support/temp_dir.h"
 
@@ -20,14 +21,8 @@ namespace {
 using nlohmann::json;
 namespace rs = registration_scenes;
 
-json Camera(const PinholeIntrinsics& K) {
-  return {{"width", K.width}, {"height", K.height}, {"fx", K.fx}, {"fy", K.fy}, {"cx", K.cx}, {"cy", K.cy}};
-}
-json PoseJson(const Eigen::Isometry3d& X) {
-  const Eigen::Quaterniond q(X.linear());
-  return {{"position", {X.translation().x(), X.translation().y(), X.translation().z()}},
-          {"orientation", {q.x(), q.y(), q.z(), q.w()}}};
-}
+using testing::PoseJson;
+const auto& Camera = testing::CameraJson;
 json Diagonal(double t_var, double r_var) {
   json c = json::array();
   for (int i = 0; i < 36; ++i) c.push_back(i % 7 == 0 ? (i < 18 ? t_var : r_var) : 0.0);
