@@ -19,6 +19,7 @@ constexpr int kObject1 = 201, kObject2Shelf = 21 /* the SE setting's box */, kOb
 
 LostKeyResult RunLostKeyScenario(httplib::Client& client, const LostKeyOptions& o) {
   ScenarioDriver d(client, o.map, o.log);
+  if (o.kind_sensor) d.SetSensor(KindSensor());
   Rng rng(o.seed * 7919 + 17);
   LostKeyResult result;
   const std::string maps = "/v1/maps/" + o.map;

@@ -29,6 +29,7 @@ struct LostKeyOptions {
   double pose_error_max_rad = 0.0524;  // 3 deg
   std::int64_t start_ns = 1'767'225'600'000'000'000;  // 2026-01-01; the scenario spans a few simulated minutes
   bool create_map = true;
+  bool kind_sensor = false;  // render with sim::KindSensor() (the sensor before issue 13) instead of the default
   std::function<void(const std::string&)> log;  // progress lines (the demo prints them)
 };
 

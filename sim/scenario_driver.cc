@@ -102,7 +102,7 @@ json ScenarioDriver::Observe(const std::string& what, const Eigen::Isometry3d& X
   const std::string base = "/v1/maps/" + map_ + "/scenes/" + std::to_string(opened["id"].get<std::int64_t>());
   Log(what + ": scene " + std::to_string(opened["id"].get<std::int64_t>()) + " opened, " +
       std::to_string(opened["merge"].value("candidates", json::array()).size()) + " earlier model(s) to merge");
-  SensorModel sensor;
+  const SensorModel& sensor = sensor_;
   for (int i = 0; i < frames; ++i) {
     const auto [scene, person] = scene_at(i);
     const Frame f = Render(scene, K, X_true, sensor, seed * 1000 + static_cast<std::uint64_t>(i));

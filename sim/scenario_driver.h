@@ -52,10 +52,13 @@ class ScenarioDriver {
                          int frames, const std::function<std::pair<Scene, bool>(int)>& scene_at, std::int64_t start_ns,
                          std::uint64_t seed);
   const std::string& map() const { return map_; }
+  // The sensor the frames are rendered with (default: the Kinect-v1-like SensorModel{}).
+  void SetSensor(const SensorModel& sensor) { sensor_ = sensor; }
 
  private:
   httplib::Client& client_;
   std::string map_;
+  SensorModel sensor_;
   std::function<void(const std::string&)> log_;
 };
 

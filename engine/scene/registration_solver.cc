@@ -102,6 +102,9 @@ PriorWhitening Whiten(const Matrix6d& prior_covariance) {
   return w;
 }
 
+// The share of the best observed direction's information below which a direction counts as unobservable.
+constexpr double kMinInformationShare = 0.005;
+
 MapStep SolveMapStep(const NormalEquations& data, const PriorWhitening& prior, const Vector6d& xi_current,
                      double min_relative_information) {
   MapStep step;
@@ -114,9 +117,13 @@ MapStep SolveMapStep(const NormalEquations& data, const PriorWhitening& prior, c
   const Vector6d b = step.directions.transpose() * (prior.S * data.g + z);
   const Vector6d zc = step.directions.transpose() * z;
   Vector6d y = Vector6d::Zero();
+  // A direction is also unobservable when its information is a negligible share of the best observed one's: the
+  // noise of a plane's normals lends its in-plane directions a share that grows with the number of points (and so
+  // exceeds any fixed multiple of a wide prior's information), never with the geometry.
+  const double floor_information = std::max(min_relative_information, kMinInformationShare * lambda(5));
   for (int k = 0; k < 6; ++k) {
     step.relative_information[k] = lambda(k);
-    if (lambda(k) < min_relative_information) {
+    if (lambda(k) < floor_information) {
       ++step.unobservable;
       y(k) = -zc(k);  // back to the prior along this direction
     } else {

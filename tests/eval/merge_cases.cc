@@ -67,7 +67,15 @@ int StrategyIndex(engine::MergeStrategy s) {
 
 MergeCaseResult RunMergeCase(sim::Setting setting, MergeCase c, std::uint64_t seed, const MergeCaseOptions& options) {
   const PinholeIntrinsics K = sim::KinectIntrinsics();
-  const Script script = BuildScript(setting, c, seed, K);
+  Script script = BuildScript(setting, c, seed, K);
+  if (options.kind_sensor) {  // the sensor before issue 13 (sim::KindSensor()), keeping the case's range
+    const sim::SensorModel kind = sim::KindSensor();
+    script.sensor.correlated_noise_fraction = kind.correlated_noise_fraction;
+    script.sensor.quantise_disparity = kind.quantise_disparity;
+    script.sensor.lateral_jitter = kind.lateral_jitter;
+    script.sensor.flying_pixels = kind.flying_pixels;
+    script.sensor.speckle_dropouts = kind.speckle_dropouts;
+  }
   const std::size_t n_phases = script.phases.size();
 
   // The pose stored with each viewpoint's model: a fresh localisation error at every viewpoint.

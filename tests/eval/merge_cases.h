@@ -107,6 +107,9 @@ struct MergeCaseOptions {
   double pose_error_rotation_rad = 0.05235987755982989;  // 3 deg: uniform angle in [0, this], random axis
   double pose_sigma_factor = engine::MergeParams{}.pose_sigma_factor;  // the premises' k (MergeParams)
   std::vector<engine::MergeStrategy> strategies = {kMergeStrategies.begin(), kMergeStrategies.end()};
+  // Render with the kind sensor of before issue 13 (no disparity quantisation, correlated noise, jitter, flying
+  // pixels or speckle) instead of the Kinect-v1-like default.
+  bool kind_sensor = false;
 };
 
 // Renders the case once and runs every requested strategy on the same frames (the others stay empty).

@@ -2,7 +2,7 @@
 // Algorithm 2, the naive strategy and the naive strategy without ICP, beside the thesis' figures, and the ICP
 // correction error on the injected camera pose errors.
 //   anchordb_eval_merge [--seeds N] [--frames_a N] [--frames_b N] [--case NAME] [--pose_error_cm X]
-//                       [--pose_error_deg X] [--verbose]
+//                       [--pose_error_deg X] [--verbose] [--kind_sensor]
 //   anchordb_eval_merge --sweep [--seeds N] [--scene sparse|cluttered] [--level CM DEG]   (issue 13's sweep, 10 seeds)
 // (--pose_error_cm 0 --pose_error_deg 0 shows what the merge reaches with exact poses, without registration error.)
 #include <algorithm>
@@ -74,10 +74,11 @@ int main(int argc, char** argv) {
       options.pose_sigma_factor = std::atof(argv[++i]);
     }
     else if (std::strcmp(argv[i], "--verbose") == 0) verbose = true;
+    else if (std::strcmp(argv[i], "--kind_sensor") == 0) options.kind_sensor = true;
     else {
       std::fprintf(stderr,
                    "usage: %s [--seeds N] [--frames_a N] [--frames_b N] [--case NAME] [--pose_error_cm X] "
-                   "[--pose_error_deg X] [--verbose]\n       %s --sweep [--seeds N] [--scene sparse|cluttered] "
+                   "[--pose_error_deg X] [--verbose] [--kind_sensor]\n       %s --sweep [--seeds N] [--scene sparse|cluttered] "
                    "[--level CM DEG]\n",
                    argv[0], argv[0]);
       return 2;

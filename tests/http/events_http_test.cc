@@ -44,6 +44,9 @@ class EventsHttpTest : public ::testing::Test {
 
 TEST_F(EventsHttpTest, LostKeyMoveIsInferredPastStateAnsweredAndOperatorRelabelSurvivesLaterProcessing) {
   sim::LostKeyOptions o;
+  // The kind sensor: on the Kinect-v1-like default the settle detector (engine/scene/settle.h) never settles on a
+  // static scene (100-960 movable resets per frame), so the first visit has no settled keyframe. Open (issue 13).
+  o.kind_sensor = true;
   o.seed = 10;
   const sim::LostKeyResult result = sim::RunLostKeyScenario(*client_, o);
   // The move inference: the labelled removal at B continued by the observed addition at A.
