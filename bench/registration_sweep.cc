@@ -33,8 +33,8 @@ int main(int argc, char** argv) {
   for (int s = 0; s < seeds; ++s) {
     const sim::Frame a = sim::Render(scene, K, A, sim::SensorModel{}, 1000 + s);
     const sim::Frame b = sim::Render(scene, K, B, sim::SensorModel{}, 2000 + s);
-    views.push_back({rs::Cloud(a, K, Isometry3d::Identity()),
-                     engine::PrepareIcpTarget(rs::Cloud(b, K, Isometry3d::Identity()), engine::IcpParams{})});
+    views.push_back({rs::RegistrationInput(a, K, Isometry3d::Identity()),
+                     engine::PrepareIcpTarget(rs::RegistrationInput(b, K, Isometry3d::Identity()), engine::IcpParams{})});
   }
   const double deg = std::numbers::pi / 180.0;
   std::printf("| error given | after: translation mean / worst [cm] | rotation mean / worst [deg] | accepted | CPU ms per AlignIcp |\n");

@@ -384,7 +384,8 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
   IcpTarget icp_target;
   if (params.strategy != MergeStrategy::kNaiveWithoutIcp && !priors.empty()) {
     const auto start = Clock::now();
-    icp_target = PrepareIcpTarget(BackProject(frame_m, K, Eigen::Isometry3d::Identity()), params.icp);
+    icp_target = PrepareIcpTarget(
+        RegistrationCloud(frame_m, K, Eigen::Isometry3d::Identity(), params.icp.edge_jump_fraction), params.icp);
     result.timing.icp_ms += MsSince(start);
   }
 
@@ -402,7 +403,9 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
     Matrix6d covariance_C = RelativePoseCovariance(X_MapCamera, params.current_pose_covariance_map,
                                                    prior.X_MapCamera, prior.pose_covariance_map);
     if (params.strategy != MergeStrategy::kNaiveWithoutIcp && !cloud_C.empty() && icp_target.points > 0) {
-      report.icp = AlignIcp(cloud_C, icp_target, covariance_C);
+      report.icp = AlignIcp(RegistrationCloud(prior.background_m, prior.K, X_CM * prior.X_MapCamera,
+                                              params.icp.edge_jump_fraction),
+                            icp_target, covariance_C);
       covariance_C = report.icp.covariance;
       if (report.icp.accepted) {
         report.icp_applied = true;

@@ -217,7 +217,8 @@ class Aligner {
     for (int it = 0; it < max_iterations; ++it) {
       Match(level.points, X, level.range_m, level.voxel_m, pairs_);
       if (pairs_.size() < 6) return false;
-      const MapStep step = SolveMapStep(Equations(pairs_), prior_, LogMotion(X), params_.min_relative_information);
+      const MapStep step = SolveMapStep(Equations(pairs_), pairs_, prior_, LogMotion(X), params_.min_relative_information,
+                                        params_.min_normal_alignment);
       ++iterations;
       if (!step.delta.allFinite()) return false;
       X = ExpMotion(step.delta) * X;
@@ -327,7 +328,8 @@ IcpResult AlignIcp(const std::vector<Eigen::Vector3f>& source, const IcpTarget& 
   const NormalEquations unscaled = aligner.Equations(pairs);
   const double scale2 = unscaled.weight_sum > 6 ? unscaled.chi2 / (unscaled.weight_sum - 6) : 1.0;
   const Vector6d xi = LogMotion(X);
-  const MapStep step = SolveMapStep(aligner.Equations(pairs, scale2), prior, xi, params.min_relative_information);
+  const MapStep step = SolveMapStep(aligner.Equations(pairs, scale2), pairs, prior, xi, params.min_relative_information,
+                                     params.min_normal_alignment);
   result.relative_information = step.relative_information;
   result.unobservable_directions = step.unobservable;
   result.mahalanobis2 = xi.dot(prior.information * xi);

@@ -77,7 +77,23 @@ NormalEquations Accumulate(std::span<const PointPair> pairs, double huber_k, dou
   out.pairs = pairs.size();
   const double f = 1.0 / std::max(1.0, inflation);
   out.H *= f, out.g *= f;
+  out.huber_k = huber_k;
+  out.information_scale = f;
   return out;
+}
+
+double GeometricInformation(std::span<const PointPair> pairs, const NormalEquations& data, const Vector6d& u,
+                            double min_alignment) {
+  const Eigen::Vector3d ut = u.head<3>(), ur = u.tail<3>();
+  double info = 0.0;
+  for (const PointPair& pp : pairs) {
+    const Eigen::Vector3d d = ut + ur.cross(pp.p);
+    const double along = pp.n.dot(d);  // = J . u
+    if (!(std::abs(along) >= min_alignment * d.norm())) continue;
+    const double w = HuberWeight(pp.n.dot(pp.p - pp.q) / pp.sigma_m, data.huber_k);
+    info += w / (pp.sigma_m * pp.sigma_m) * along * along;
+  }
+  return info * data.information_scale;
 }
 
 double CorrelationInflation(std::span<const PointPair> pairs, double patch_m) {
@@ -102,11 +118,8 @@ PriorWhitening Whiten(const Matrix6d& prior_covariance) {
   return w;
 }
 
-// The share of the best observed direction's information below which a direction counts as unobservable.
-constexpr double kMinInformationShare = 0.005;
-
-MapStep SolveMapStep(const NormalEquations& data, const PriorWhitening& prior, const Vector6d& xi_current,
-                     double min_relative_information) {
+MapStep SolveMapStep(const NormalEquations& data, std::span<const PointPair> pairs, const PriorWhitening& prior,
+                     const Vector6d& xi_current, double min_relative_information, double min_alignment) {
   MapStep step;
   const Matrix6d M = prior.S * data.H * prior.S;
   const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(0.5 * (M + M.transpose()));
@@ -117,13 +130,15 @@ MapStep SolveMapStep(const NormalEquations& data, const PriorWhitening& prior, c
   const Vector6d b = step.directions.transpose() * (prior.S * data.g + z);
   const Vector6d zc = step.directions.transpose() * z;
   Vector6d y = Vector6d::Zero();
-  // A direction is also unobservable when its information is a negligible share of the best observed one's: the
-  // noise of a plane's normals lends its in-plane directions a share that grows with the number of points (and so
-  // exceeds any fixed multiple of a wide prior's information), never with the geometry.
-  const double floor_information = std::max(min_relative_information, kMinInformationShare * lambda(5));
   for (int k = 0; k < 6; ++k) {
     step.relative_information[k] = lambda(k);
-    if (lambda(k) < floor_information) {
+    // Cheap first: a direction whose whole information is under the bound needs no pass over the pairs.
+    step.geometric_information[k] =
+        lambda(k) < min_relative_information
+            ? lambda(k)
+            : GeometricInformation(pairs, data, prior.S * step.directions.col(k), min_alignment);
+    step.observable[k] = step.geometric_information[k] >= min_relative_information;
+    if (!step.observable[k]) {
       ++step.unobservable;
       y(k) = -zc(k);  // back to the prior along this direction
     } else {
@@ -138,7 +153,7 @@ Matrix6d PosteriorCovariance(const MapStep& step, const PriorWhitening& prior, c
   Vector6d d;
   for (int k = 0; k < 6; ++k) {
     const double lambda = step.relative_information[k];
-    d(k) = k < step.unobservable ? 1.0 : 1.0 / (1.0 + lambda);
+    d(k) = step.observable[k] ? 1.0 / (1.0 + lambda) : 1.0;
   }
   const Matrix6d c = prior.S * step.directions * d.asDiagonal() * step.directions.transpose() * prior.S + floor;
   return 0.5 * (c + c.transpose());

@@ -43,6 +43,8 @@ struct NormalEquations {
   double chi2 = 0.0;             // sum w u^2 (before the inflation)
   double weight_sum = 0.0;       // sum w
   std::size_t pairs = 0;
+  double huber_k = 1.5;          // the Huber threshold the weights were computed with
+  double information_scale = 1.0;  // 1 / inflation: the factor H and g were scaled by
 };
 NormalEquations Accumulate(std::span<const PointPair> pairs, double huber_k, double inflation);
 
@@ -60,18 +62,30 @@ struct PriorWhitening {
 };
 PriorWhitening Whiten(const Matrix6d& prior_covariance);
 
+// The information along a motion u (target frame) from the pairs whose normal sees it: a pair counts only when its
+// normal makes a cosine of at least min_alignment with the displacement u moves its point by (d = u_t + u_r x p).
+// The noise of estimated normals (a few degrees) gives every point of a plane a tiny component along the plane's
+// own directions; summed over thousands of points it looks like information that grows with the point count, not
+// with the geometry. Counting only the pairs whose surface really faces the motion removes it. Same scaling (Huber
+// weights, 1 / sigma^2, inflation) as `data`.
+double GeometricInformation(std::span<const PointPair> pairs, const NormalEquations& data, const Vector6d& u,
+                            double min_alignment);
+
 // One Gauss-Newton step of the MAP problem  min 1/2 |S^-1 xi|^2 + data, from the current motion xi_current.
-// The data's information relative to the prior's is M = S H S = V diag(lambda) V^T: along an eigen-direction with
-// lambda < min_relative_information the data says less than the prior knows, and the step returns that component
-// of the motion to the prior (zero) instead of following the data there.
+// The data's information relative to the prior's is M = S H S = V diag(lambda) V^T. Along an eigen-direction v
+// whose geometric information (GeometricInformation of S v, in the same whitened units as lambda) is below
+// min_relative_information the data says less than the prior knows, and the step returns that component of the
+// motion to the prior (zero) instead of following the data there.
 struct MapStep {
   Vector6d delta = Vector6d::Zero();  // left increment
   std::array<double, 6> relative_information{};  // lambda, ascending
-  Matrix6d directions = Matrix6d::Identity();    // V, columns in whitened coordinates
-  int unobservable = 0;                          // eigenvalues below min_relative_information
+  std::array<double, 6> geometric_information{};  // of the same directions, from the pairs that face them
+  std::array<bool, 6> observable{};               // per direction: geometric information >= the bound
+  Matrix6d directions = Matrix6d::Identity();     // V, columns in whitened coordinates
+  int unobservable = 0;                           // directions that are not observable
 };
-MapStep SolveMapStep(const NormalEquations& data, const PriorWhitening& prior, const Vector6d& xi_current,
-                     double min_relative_information);
+MapStep SolveMapStep(const NormalEquations& data, std::span<const PointPair> pairs, const PriorWhitening& prior,
+                     const Vector6d& xi_current, double min_relative_information, double min_alignment);
 
 // The posterior covariance of the motion (target frame): S (V diag(1 / (1 + lambda)) V^T) S with the eigenvalues of
 // the unobservable directions set to 0 (those directions keep the prior's uncertainty), plus `floor`.

@@ -72,6 +72,14 @@ inline std::vector<Eigen::Vector3f> Cloud(const sim::Frame& frame, const Pinhole
   return out;
 }
 
+// The same as the merge registers it (engine::RegistrationCloud: without the pixels at depth discontinuities).
+inline std::vector<Eigen::Vector3f> RegistrationInput(const sim::Frame& frame, const PinholeIntrinsics& K,
+                                                      const Isometry3d& X_FrameCamera) {
+  std::vector<float> depth_m(frame.depth_mm.size());
+  for (std::size_t i = 0; i < depth_m.size(); ++i) depth_m[i] = frame.depth_mm[i] / 1000.0f;
+  return engine::RegistrationCloud(depth_m, K, X_FrameCamera, engine::IcpParams{}.edge_jump_fraction);
+}
+
 // Seeded, portable draws (std distributions differ between standard libraries).
 class Rng {
  public:
