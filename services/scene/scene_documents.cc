@@ -30,6 +30,9 @@ Json MergedModelDocument(const MergedModel& r) {
     icp["unobservable_directions"] = r.unobservable_directions;
     icp["mahalanobis2"] = r.mahalanobis2;
     icp["remaining_sigma"] = r.remaining_sigma;
+    out["pixels"]["rejected_uncertain"] = r.rejected_uncertain;
+    out["premises"] = {{"tolerance_px", r.tolerance_px}, {"tolerance_m", r.tolerance_m}, {"merged", r.fallback.empty()},
+                       {"fallback", r.fallback}};
   }
   return out;
 }
@@ -71,6 +74,11 @@ MergedModel MergedModelFromDocument(const Json& j) {
   r.rejected_fov = px.value("rejected_fov", std::size_t{0});
   r.rejected_occlusion = px.value("rejected_occlusion", std::size_t{0});
   r.rejected_neighbourhood = px.value("rejected_neighbourhood", std::size_t{0});
+  r.rejected_uncertain = px.value("rejected_uncertain", std::size_t{0});
+  const Json premises = j.value("premises", Json::object());
+  r.tolerance_px = premises.value("tolerance_px", 0.0);
+  r.tolerance_m = premises.value("tolerance_m", 0.0);
+  r.fallback = premises.value("fallback", std::string());
   return r;
 }
 

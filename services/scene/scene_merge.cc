@@ -55,6 +55,10 @@ MergedModel ReportOf(const engine::MergeModelReport& r) {
   m.rejected_fov = r.rejected_fov;
   m.rejected_occlusion = r.rejected_occlusion;
   m.rejected_neighbourhood = r.rejected_neighbourhood;
+  m.rejected_uncertain = r.rejected_uncertain;
+  m.tolerance_px = r.tolerance_px;
+  m.tolerance_m = r.tolerance_m;
+  m.fallback = r.fallback;
   return m;
 }
 

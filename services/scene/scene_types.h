@@ -112,6 +112,12 @@ struct MergedModel {
   std::size_t rejected_fov = 0;
   std::size_t rejected_occlusion = 0;
   std::size_t rejected_neighbourhood = 0;
+  std::size_t rejected_uncertain = 0;  // the pose uncertainty at the pixel was beyond what the premises can use
+  // The remaining pose uncertainty the premises worked with (median over the model; engine::MergeModelReport) and,
+  // when the model was not merged at all, why (empty when it was: the merge is never worse than a fresh model).
+  double tolerance_px = 0.0;
+  double tolerance_m = 0.0;
+  std::string fallback;
 };
 
 // The merge of earlier models into a new one (3.3.3-3.3.4): the candidates chosen when it was opened and, once the
