@@ -105,6 +105,8 @@ DecodedCloud DecodePcd(std::string_view bytes, std::size_t max_points) {
     if (body_bytes / std::max<std::uint32_t>(cloud.point_step, 1) * cloud.fields.size() * 2 > bytes.size()) {
       Bad("the PCD header claims more points than the body holds");
     }
+    stream.clear();
+    stream.seekg(data_idx);  // readHeader reads ahead of the first point line
     if (reader.readBodyASCII(stream, cloud, version) != 0) Bad("the PCD ascii body does not decode");
   } else {
     if (data_idx > bytes.size()) Bad("the PCD header claims more data than the body holds");
@@ -174,8 +176,12 @@ std::string EncodeCloud(const std::vector<Eigen::Vector3f>& points, CloudFormat 
     // PCL refuses to write an empty PCD; its header alone is the empty cloud.
     pcl::PCLPointCloud2 empty;
     pcl::toPCLPointCloud2(cloud, empty);
-    return format == CloudFormat::kPcdAscii ? pcl::PCDWriter().generateHeaderASCII(empty, {}, {})
-                                            : pcl::PCDWriter().generateHeaderBinary(empty, {}, {});
+    std::string header = pcl::PCDWriter().generateHeaderBinary(empty, Eigen::Vector4f::Zero(),
+                                                               Eigen::Quaternionf::Identity());
+    if (header.find("DATA ") == std::string::npos) {
+      header += format == CloudFormat::kPcdAscii ? "DATA ascii\n" : "DATA binary\n";
+    }
+    return header;
   }
   switch (format) {
     case CloudFormat::kPcdAscii: rc = pcl::io::savePCDFileASCII(file.path(), cloud); break;

@@ -50,6 +50,13 @@ point3d ToPoint(const Eigen::Vector3d& v) {
   return point3d(static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z()));
 }
 
+// `box` cut to the addressable volume (2^15 leaves each way), where liboctomap's key conversion holds.
+Box3 Addressable(const Box3& box, double resolution_m) {
+  const double half = resolution_m * 32767.0;
+  return {box.min_M.cwiseMax(Eigen::Vector3d::Constant(-half)).cwiseMin(Eigen::Vector3d::Constant(half)),
+          box.max_M.cwiseMax(Eigen::Vector3d::Constant(-half)).cwiseMin(Eigen::Vector3d::Constant(half))};
+}
+
 bool Inside(const Box3& b, const Eigen::Vector3d& p) {
   return (p.array() >= b.min_M.array()).all() && (p.array() <= b.max_M.array()).all();
 }
@@ -216,10 +223,13 @@ RayHit OccupancyTree::CastRay(const Eigen::Vector3d& origin_M, const Eigen::Vect
   return hit;
 }
 
-std::vector<Voxel> OccupancyTree::OccupiedVoxels(const Box3& box, std::size_t limit, bool* truncated) const {
+std::vector<Voxel> OccupancyTree::OccupiedVoxels(const Box3& box_in, std::size_t limit, bool* truncated) const {
+  Require(Finite(box_in.min_M) && Finite(box_in.max_M), "min", "must be finite");
+  const Box3 box = Addressable(box_in, impl_->params.resolution_m);
   std::vector<Voxel> out;
   if (truncated) *truncated = false;
   const OcTree& tree = impl_->tree;
+  if (tree.size() == 0) return out;
   for (auto it = tree.begin_leafs_bbx(ToPoint(box.min_M), ToPoint(box.max_M)), end = tree.end_leafs_bbx(); it != end;
        ++it) {
     if (!tree.isNodeOccupied(*it)) continue;
@@ -234,7 +244,9 @@ std::vector<Voxel> OccupancyTree::OccupiedVoxels(const Box3& box, std::size_t li
   return out;
 }
 
-std::vector<Voxel> OccupancyTree::KnownVoxels(const Box3& box) const {
+std::vector<Voxel> OccupancyTree::KnownVoxels(const Box3& box_in) const {
+  Require(Finite(box_in.min_M) && Finite(box_in.max_M), "min", "must be finite");
+  const Box3 box = Addressable(box_in, impl_->params.resolution_m);
   std::vector<Voxel> out;
   const OcTree& tree = impl_->tree;
   if (tree.size() == 0) return out;
@@ -361,9 +373,10 @@ bool OccupancyTree::SameLeaves(const OccupancyTree& other, float tolerance) cons
   return ia == ea && ib == eb;
 }
 
-std::size_t OccupancyTree::ClearBox(const Box3& box, std::int64_t stamp_ns) {
-  Require(Finite(box.min_M) && Finite(box.max_M) && (box.min_M.array() <= box.max_M.array()).all(), "min",
+std::size_t OccupancyTree::ClearBox(const Box3& box_in, std::int64_t stamp_ns) {
+  Require(Finite(box_in.min_M) && Finite(box_in.max_M) && (box_in.min_M.array() <= box_in.max_M.array()).all(), "min",
           "must be finite and not above max");
+  const Box3 box = Addressable(box_in, impl_->params.resolution_m);
   OcTree& tree = impl_->tree;
   if (tree.size() == 0) return 0;
   OcTreeKey lo, hi;

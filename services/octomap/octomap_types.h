@@ -1,0 +1,66 @@
+#pragma once
+// Typed requests and results of the octomap capability (services/octomap/octomap_service.h). Map frame M, metres,
+// nanoseconds since the Unix epoch.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/octomap/occupancy_tree.h"
+
+namespace anchordb::services {
+
+// Per-map parameters; unset fields keep the stored (or default) value.
+struct OctomapConfig {
+  std::optional<double> resolution_m, prob_hit, prob_miss, clamp_min, clamp_max, occupancy_threshold;
+  std::optional<double> max_range_m;  // rays longer than this are cut (their end not marked) [m]
+};
+
+struct OctomapInfo {
+  std::string map;
+  std::int64_t version = 0;
+  engine::OccupancyTreeParams params;
+  double max_range_m = 0;
+  engine::TreeMetadata metadata;
+  std::int64_t stored_bytes = 0;  // the compressed tree and stamps in the SQLite file
+  std::int64_t created_ns = 0, updated_ns = 0;
+};
+
+enum class TreeFileFormat { kBt, kOt };
+
+struct InsertCloudRequest {
+  std::string map;
+  std::string body;                        // PCD (any DATA kind) or PLY
+  std::optional<Eigen::Vector3d> origin_M; // the sensor origin; else the cloud's own viewpoint
+  std::optional<double> max_range_m;       // else the map's
+  bool skip_nonfinite = false;             // drop NaN / inf points (organised clouds) instead of refusing the cloud
+  std::optional<std::int64_t> stamp_ns;    // else now
+};
+
+struct InsertCloudResult {
+  OctomapInfo octomap;
+  engine::InsertStats stats;
+  std::size_t skipped_nonfinite = 0;
+};
+
+struct RayRequest {
+  std::string map;
+  Eigen::Vector3d origin_M = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction_M = Eigen::Vector3d::UnitX();
+  double max_range_m = 10;
+  bool ignore_unknown = false;
+};
+
+struct VoxelsResult {
+  std::vector<engine::Voxel> voxels;
+  bool truncated = false;
+};
+
+struct ClearBoxResult {
+  std::size_t voxels_cleared = 0;
+  OctomapInfo octomap;
+};
+
+}  // namespace anchordb::services
