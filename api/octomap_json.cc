@@ -71,6 +71,40 @@ engine::Box3 ParseBox(const Json& body, std::initializer_list<std::string_view> 
   return box;
 }
 
+namespace {
+
+engine::HeightBand ParseBand(const Json& j, const std::string& path) {
+  engine::HeightBand b;
+  b.layer = json::RequireId(j, "layer", path);
+  b.min_z_m = json::RequireFiniteNumber(j, "min_z_m", path);
+  b.max_z_m = json::RequireFiniteNumber(j, "max_z_m", path);
+  return b;
+}
+
+}  // namespace
+
+services::ProjectRequest ParseProject(const Json& body) {
+  services::ProjectRequest r;
+  if (body.contains("bands")) {
+    json::RejectUnknownKeys(body, {"bands", "like", "resolution_m"});
+    const Json& bands = body.at("bands");
+    if (!bands.is_array()) throw Error(ErrorCode::kInvalidArgument, "bands must be an array", "bands");
+    limits::CheckItems(bands, 16, "bands");
+    for (std::size_t i = 0; i < bands.size(); ++i) {
+      const std::string path = "bands/" + std::to_string(i);
+      if (!bands[i].is_object()) throw Error(ErrorCode::kInvalidArgument, path + " must be an object", path);
+      json::RejectUnknownKeys(bands[i], {"layer", "min_z_m", "max_z_m"}, path);
+      r.bands.push_back(ParseBand(bands[i], path));
+    }
+  } else {
+    json::RejectUnknownKeys(body, {"layer", "min_z_m", "max_z_m", "like", "resolution_m"});
+    r.bands.push_back(ParseBand(body, ""));
+  }
+  if (body.contains("like")) r.like = json::RequireId(body, "like");
+  r.resolution_m = OptionalNumber(body, "resolution_m");
+  return r;
+}
+
 services::TreeFileFormat ParseTreeFormat(const std::string& format) {
   if (format == "bt") return services::TreeFileFormat::kBt;
   if (format == "ot") return services::TreeFileFormat::kOt;
@@ -147,6 +181,18 @@ Json ToJson(const services::VoxelsResult& r) {
                       {"stamp_ns", v.stamp_ns ? Json(*v.stamp_ns) : Json(nullptr)}});
   }
   return {{"voxels", voxels}, {"count", r.voxels.size()}, {"truncated", r.truncated}};
+}
+
+Json ToJson(const services::ProjectResult& r) {
+  Json bands = Json::array();
+  for (const services::ProjectedBand& b : r.bands) {
+    bands.push_back({{"layer", b.layer.name},
+                     {"version", b.layer.version},
+                     {"min_z_m", b.band.min_z_m},
+                     {"max_z_m", b.band.max_z_m},
+                     {"cells", {{"occupied", b.cells.occupied}, {"free", b.cells.free}, {"unknown", b.cells.unknown}}}});
+  }
+  return {{"geometry", json::ToJson(r.geometry)}, {"geometry_from", r.geometry_from}, {"bands", bands}};
 }
 
 Json ToJson(const services::ClearBoxResult& r) {

@@ -89,6 +89,14 @@ void RegisterOctomapRoutes(Router& router, OctomapService& s) {
         }
         return JsonResponse(ToJson(s.OccupiedVoxels(p["map"], box, limit)));
       });
+  router.Add("POST", "/v1/maps/{map}/octomap:project", Role::kWriter,
+      "Project height bands of the tree into 2D occupancy layers (map_server-exportable; unknown stays unknown): "
+      "{layer, min_z_m, max_z_m} or {bands:[...]}, on the grid of like (else the map's occupancy layer, else the tree's box)",
+      [&s](const httplib::Request& req, const PathParams& p) {
+        ProjectRequest r = octomap_json::ParseProject(BodyObject(req));
+        r.map = p["map"];
+        return JsonResponse(ToJson(s.Project(r)));
+      });
   router.Add("POST", "/v1/maps/{map}/octomap:clear", Role::kAdmin,
       "Operator clear of a box {min, max}: its known voxels become free, unknown stays unknown (audited)",
       [&s](const httplib::Request& req, const PathParams& p) {

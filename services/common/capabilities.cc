@@ -27,7 +27,7 @@ Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, co
       analysis(store, events, o.analysis, clock),
       jobs(store, o.jobs, clock),
       audit(store, clock),
-      octomap(store, o.octomap, clock) {
+      octomap(store, o.octomap, clock, &grid) {
   scenes.SetKeyframeListener(&analysis);
 }
 

@@ -40,8 +40,9 @@ const engine::Box3 kEverywhere{Eigen::Vector3d::Constant(-1e9), Eigen::Vector3d:
 
 }  // namespace
 
-OctomapService::OctomapService(storage::Store& store, OctomapSettings settings, const Clock& clock)
-    : store_(store), settings_(settings), clock_(clock) {}
+OctomapService::OctomapService(storage::Store& store, OctomapSettings settings, const Clock& clock,
+                               GridService* grid)
+    : store_(store), settings_(settings), clock_(clock), grid_(grid) {}
 OctomapService::~OctomapService() = default;
 
 std::shared_ptr<OctomapService::Entry> OctomapService::Load(const std::string& map, bool create_if_missing) {

@@ -15,6 +15,7 @@
 #include "engine/cloud/cloud_io.h"
 #include "schema/clock.h"
 #include "services/common/exported_bytes.h"
+#include "services/grid/grid_service.h"
 #include "services/octomap/octomap_settings.h"
 #include "services/octomap/octomap_types.h"
 #include "storage/store.h"
@@ -23,7 +24,9 @@ namespace anchordb::services {
 
 class OctomapService {
  public:
-  OctomapService(storage::Store& store, OctomapSettings settings, const Clock& clock = SystemClock::Instance());
+  // `grid` (may be null: no projection) stores the projected layers; it must outlive the service.
+  OctomapService(storage::Store& store, OctomapSettings settings, const Clock& clock = SystemClock::Instance(),
+                 GridService* grid = nullptr);
   ~OctomapService();
 
   // Creates the map's tree (empty) or changes its sensor model and range; the resolution of a tree that holds
@@ -52,6 +55,10 @@ class OctomapService {
   // Voxels not updated since `cutoff_ns` go back to unknown; returns how many leaves went (0 without a tree).
   std::size_t ForgetOlderThan(const std::string& map, std::int64_t cutoff_ns);
 
+  // Projects height bands into occupancy layers (octomap_projection.cc); kUnprocessable for an empty tree without
+  // a grid to follow, bad bands (field "bands") or a rotated grid.
+  ProjectResult Project(const ProjectRequest& request);
+
   const OctomapSettings& settings() const { return settings_; }
 
  private:
@@ -66,6 +73,7 @@ class OctomapService {
   storage::Store& store_;
   OctomapSettings settings_;
   const Clock& clock_;
+  GridService* grid_;
   std::mutex write_mutex_;  // one octomap change at a time
   std::mutex cache_mutex_;
   std::map<std::string, std::shared_ptr<Entry>> cache_;

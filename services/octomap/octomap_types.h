@@ -8,7 +8,9 @@
 
 #include <Eigen/Core>
 
+#include "engine/octomap/height_bands.h"
 #include "engine/octomap/occupancy_tree.h"
+#include "services/grid/grid_types.h"
 
 namespace anchordb::services {
 
@@ -61,6 +63,27 @@ struct VoxelsResult {
 struct ClearBoxResult {
   std::size_t voxels_cleared = 0;
   OctomapInfo octomap;
+};
+
+// Height bands -> 2D occupancy layers. The grid is that of `like` (an occupancy layer), else of the map's first
+// occupancy layer that is not a band, else the tree's bounding box at `resolution_m` (default: the tree's).
+struct ProjectRequest {
+  std::string map;
+  std::vector<engine::HeightBand> bands;
+  std::optional<std::string> like;
+  std::optional<double> resolution_m;
+};
+
+struct ProjectedBand {
+  LayerInfo layer;
+  engine::HeightBand band;
+  engine::BandCounts cells;
+};
+
+struct ProjectResult {
+  GridGeometry geometry;
+  std::string geometry_from;  // "layer <name>" or "tree"
+  std::vector<ProjectedBand> bands;
 };
 
 }  // namespace anchordb::services

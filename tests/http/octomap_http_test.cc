@@ -10,6 +10,7 @@
 #include <httplib.h>
 
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 
 namespace anchordb {
@@ -211,6 +212,54 @@ TEST_F(OctomapHttpTest, BadInputGetsAClearErrorAndChangesNothing) {
   const json skipped = Ok("POST", points + "&skip_nonfinite=true", nan_cloud, "application/octet-stream");
   EXPECT_EQ(skipped["skipped_nonfinite"], 1);
   EXPECT_EQ(GetBytes("/v1/maps/home/octomap?format=bt").size() > 0, true);
+}
+
+TEST_F(OctomapHttpTest, BandsProjectOnTheBaseLayersGridAndExportAsMapServerMaps) {
+  Ok("POST", "/v1/maps", R"({"id":"home"})", "application/json", 201);
+  // An imported base layer: 80 x 60 cells at 0.05 m from (-1, -1.5), all free.
+  std::string pgm = "P5\n80 60\n255\n" + std::string(80 * 60, static_cast<char>(254));
+  const std::string yaml = "image: base.pgm\nresolution: 0.05\norigin: [-1.0, -1.5, 0.0]\nnegate: 0\n"
+                           "occupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  httplib::MultipartFormDataItems parts = {{"yaml", yaml, "base.yaml", "application/yaml"},
+                                           {"image", pgm, "base.pgm", "image/x-portable-graymap"}};
+  httplib::Result imported = client_->Put("/v1/maps/home/layers/floor", parts);
+  ASSERT_TRUE(imported && imported->status == 201) << (imported ? imported->body : "");
+  // A wall at x = 2 m from z = 0.5 to 1.0 (in the "spine" band, not the "base" band), seen from (0, 0, 0.75).
+  Ok("POST", "/v1/maps/home/octomap/points?origin=0,0,0.75",
+     engine::EncodeCloud(Wall(2.0f, -0.25f), engine::CloudFormat::kPcdBinary), "application/octet-stream");
+  const json projected = Ok("POST", "/v1/maps/home/octomap:project",
+      R"({"bands":[{"layer":"base_band","min_z_m":0.0,"max_z_m":0.3},{"layer":"spine_band","min_z_m":0.5,"max_z_m":1.0}]})");
+  EXPECT_EQ(projected["geometry_from"], "layer floor");
+  EXPECT_EQ(projected["geometry"]["width_cells"], 80);
+  EXPECT_EQ(projected["geometry"]["height_cells"], 60);
+  ASSERT_EQ(projected["bands"].size(), 2u);
+  EXPECT_EQ(projected["bands"][0]["cells"]["occupied"], 0);   // nothing solid below 0.3 m
+  EXPECT_GT(projected["bands"][1]["cells"]["occupied"].get<int>(), 5);  // the wall
+  EXPECT_GT(projected["bands"][1]["cells"]["free"].get<int>(), 20);     // the rays to it
+  EXPECT_GT(projected["bands"][1]["cells"]["unknown"].get<int>(), 3000);  // everything else stays unknown
+  // The exported map_server pair: the base layer's geometry, trinary values only.
+  const std::string band_yaml = GetBytes("/v1/maps/home/layers/spine_band?format=yaml");
+  EXPECT_NE(band_yaml.find("resolution: 0.05"), std::string::npos) << band_yaml;
+  EXPECT_NE(band_yaml.find("origin: [-1"), std::string::npos) << band_yaml;
+  const std::string band_pgm = GetBytes("/v1/maps/home/layers/spine_band?format=pgm");
+  ASSERT_GT(band_pgm.size(), 80u * 60u);
+  std::map<int, int> values;
+  for (std::size_t k = band_pgm.size() - 80 * 60; k < band_pgm.size(); ++k) ++values[static_cast<std::uint8_t>(band_pgm[k])];
+  EXPECT_EQ(values.size(), 3u);
+  EXPECT_GT(values[0], 5);
+  EXPECT_GT(values[205], 3000);
+  // The wall's cell (x = 2.0 .. 2.05 m: column 60; y = 0: row 60 - 1 - 30) is black in the image.
+  EXPECT_EQ(static_cast<std::uint8_t>(band_pgm[band_pgm.size() - 80 * 60 + (60 - 1 - 30) * 80 + 60]), 0);
+  // Projecting again replaces the layers (next version); bad bands change nothing.
+  const json again = Ok("POST", "/v1/maps/home/octomap:project", R"({"layer":"spine_band","min_z_m":0.5,"max_z_m":1.0})");
+  EXPECT_EQ(again["bands"][0]["version"], 2);
+  auto [code, error] = Send("POST", "/v1/maps/home/octomap:project", R"({"layer":"x","min_z_m":1.0,"max_z_m":0.5})");
+  EXPECT_EQ(code, 422);
+  EXPECT_EQ(error["error"]["field"], "bands");
+  auto [missing, e2] = Send("POST", "/v1/maps/home/octomap:project", R"({"layer":"x","min_z_m":0,"max_z_m":1,"like":"nope"})");
+  EXPECT_EQ(missing, 404);
+  auto [absent, e3] = Send("GET", "/v1/maps/home/layers/x", "");
+  EXPECT_EQ(absent, 404);
 }
 
 }  // namespace
