@@ -19,6 +19,8 @@ CREATE TABLE octomaps (
   base_stamp_ns        INTEGER NOT NULL DEFAULT 0,   -- the last import's time: the stamp of voxels without one
   leaves               INTEGER NOT NULL DEFAULT 0,
   occupied_leaves      INTEGER NOT NULL DEFAULT 0,
+  keyframes_through    INTEGER NOT NULL DEFAULT 0,   -- octomap_from_keyframes: keyframes up to this id are in
+  events_through       INTEGER NOT NULL DEFAULT 0,   -- removal events up to this id had their voxels cleared
   created_ns           INTEGER NOT NULL,
   updated_ns           INTEGER NOT NULL
 );

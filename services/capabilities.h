@@ -10,6 +10,7 @@
 #include "services/furniture/furniture_service.h"
 #include "services/grid/grid_service.h"
 #include "services/jobs/job_service.h"
+#include "services/octomap/octomap_keyframe_feed.h"
 #include "services/octomap/octomap_service.h"
 #include "services/scene/scene_service.h"
 #include "storage/store.h"
@@ -46,6 +47,7 @@ class Capabilities {
   JobService jobs;
   AuditService audit;
   OctomapService octomap;
+  OctomapKeyframeFeed octomap_feed;  // in front of `analysis`: stored keyframes also update the map's tree
 };
 
 }  // namespace anchordb::services

@@ -9,7 +9,8 @@ namespace {
 
 constexpr const char* kColumns =
     "map_id, format, version, resolution_m, prob_hit, prob_miss, clamp_min, clamp_max, occupancy_threshold, "
-    "max_range_m, base_stamp_ns, leaves, occupied_leaves, created_ns, updated_ns, length(tree), length(stamps)";
+    "max_range_m, base_stamp_ns, leaves, occupied_leaves, created_ns, updated_ns, length(tree), length(stamps), "
+    "keyframes_through, events_through";
 
 OctomapRecord Row(const Statement& s) {
   OctomapRecord r;
@@ -30,6 +31,8 @@ OctomapRecord Row(const Statement& s) {
   r.updated_ns = s.Int(14);
   r.tree_bytes = s.Int(15);
   r.stamps_bytes = s.Int(16);
+  r.keyframes_through = s.Int(17);
+  r.events_through = s.Int(18);
   return r;
 }
 
@@ -42,8 +45,8 @@ std::optional<OctomapRecord> FindOctomap(Connection& c, const std::string& map_i
   if (!s.Step()) return std::nullopt;
   OctomapRecord r = Row(s);
   if (with_blobs) {
-    r.tree_blob = s.Blob(17);
-    r.stamps_blob = s.Blob(18);
+    r.tree_blob = s.Blob(19);
+    r.stamps_blob = s.Blob(20);
   }
   return r;
 }
@@ -59,18 +62,19 @@ std::int64_t UpsertOctomap(Connection& c, const OctomapRecord& r, std::optional<
   Statement s(c,
               "INSERT INTO octomaps (map_id, format, version, resolution_m, prob_hit, prob_miss, clamp_min, clamp_max, "
               "occupancy_threshold, max_range_m, tree, stamps, base_stamp_ns, leaves, occupied_leaves, created_ns, "
-              "updated_ns) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) "
+              "updated_ns, keyframes_through, events_through) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) "
               "ON CONFLICT (map_id) DO UPDATE SET format = excluded.format, version = excluded.version, "
               "resolution_m = excluded.resolution_m, prob_hit = excluded.prob_hit, prob_miss = excluded.prob_miss, "
               "clamp_min = excluded.clamp_min, clamp_max = excluded.clamp_max, "
               "occupancy_threshold = excluded.occupancy_threshold, max_range_m = excluded.max_range_m, "
               "tree = excluded.tree, stamps = excluded.stamps, base_stamp_ns = excluded.base_stamp_ns, "
-              "leaves = excluded.leaves, occupied_leaves = excluded.occupied_leaves, updated_ns = excluded.updated_ns");
+              "leaves = excluded.leaves, occupied_leaves = excluded.occupied_leaves, updated_ns = excluded.updated_ns, "
+              "keyframes_through = excluded.keyframes_through, events_through = excluded.events_through");
   s.Bind(1, r.map_id).Bind(2, r.format).Bind(3, version).Bind(4, r.resolution_m).Bind(5, r.prob_hit);
   s.Bind(6, r.prob_miss).Bind(7, r.clamp_min).Bind(8, r.clamp_max).Bind(9, r.occupancy_threshold);
   s.Bind(10, r.max_range_m).BindBlob(11, r.tree_blob).BindBlob(12, r.stamps_blob).Bind(13, r.base_stamp_ns);
   s.Bind(14, r.leaves).Bind(15, r.occupied_leaves).Bind(16, stored ? stored->created_ns : r.created_ns);
-  s.Bind(17, r.updated_ns).Run();
+  s.Bind(17, r.updated_ns).Bind(18, r.keyframes_through).Bind(19, r.events_through).Run();
   return version;
 }
 
@@ -78,6 +82,40 @@ bool DeleteOctomap(Connection& c, const std::string& map_id) {
   Statement s(c, "DELETE FROM octomaps WHERE map_id = ?");
   s.Bind(1, map_id).Run();
   return c.Changes() > 0;
+}
+
+std::vector<std::int64_t> KeyframeIdsAfter(Connection& c, const std::string& map_id, std::int64_t after_id, int limit) {
+  Statement s(c, "SELECT id FROM keyframes WHERE map_id = ? AND id > ? ORDER BY id LIMIT ?");
+  s.Bind(1, map_id).Bind(2, after_id).Bind(3, static_cast<std::int64_t>(limit));
+  std::vector<std::int64_t> out;
+  while (s.Step()) out.push_back(s.Int(0));
+  return out;
+}
+
+std::vector<RemovedSegment> RemovedSegmentsAfter(Connection& c, const std::string& map_id, std::int64_t after_event_id,
+                                                 int limit) {
+  Statement s(c,
+              "SELECT e.id, s.min_x_m, s.min_y_m, s.min_z_m, s.max_x_m, s.max_y_m, s.max_z_m FROM events e "
+              "JOIN segments s ON s.id = e.segment_id WHERE e.map_id = ? AND e.id > ? AND e.type = 'removed' "
+              "ORDER BY e.id LIMIT ?");
+  s.Bind(1, map_id).Bind(2, after_event_id).Bind(3, static_cast<std::int64_t>(limit));
+  std::vector<RemovedSegment> out;
+  while (s.Step()) {
+    RemovedSegment r;
+    r.event_id = s.Int(0);
+    for (int i = 0; i < 3; ++i) {
+      r.min_m[i] = s.Double(1 + i);
+      r.max_m[i] = s.Double(4 + i);
+    }
+    out.push_back(r);
+  }
+  return out;
+}
+
+std::int64_t LastEventId(Connection& c, const std::string& map_id) {
+  Statement s(c, "SELECT COALESCE(MAX(id), 0) FROM events WHERE map_id = ?");
+  s.Bind(1, map_id);
+  return s.Step() ? s.Int(0) : 0;
 }
 
 std::string EncodeOctomapTree(std::string_view ot_stream) {

@@ -29,6 +29,8 @@ struct OctomapRecord {
   std::int64_t base_stamp_ns = 0;
   std::int64_t leaves = 0;
   std::int64_t occupied_leaves = 0;
+  std::int64_t keyframes_through = 0;  // keyframes with id <= this are integrated (octomap_from_keyframes)
+  std::int64_t events_through = 0;     // removal events with id <= this had their voxels cleared
   std::int64_t created_ns = 0;
   std::int64_t updated_ns = 0;
   std::int64_t tree_bytes = 0;    // stored sizes of the blobs
@@ -40,6 +42,21 @@ std::optional<OctomapRecord> FindOctomap(Connection& c, const std::string& map_i
 // expects no row). Returns the new version.
 std::int64_t UpsertOctomap(Connection& c, const OctomapRecord& record, std::optional<std::int64_t> expected_version);
 bool DeleteOctomap(Connection& c, const std::string& map_id);
+
+// Keyframe ids of the map after `after_id`, ascending, at most `limit`.
+std::vector<std::int64_t> KeyframeIdsAfter(Connection& c, const std::string& map_id, std::int64_t after_id, int limit);
+
+// A 'removed' change event with its segment's box in the map frame [m].
+struct RemovedSegment {
+  std::int64_t event_id = 0;
+  double min_m[3] = {0, 0, 0};
+  double max_m[3] = {0, 0, 0};
+};
+// The map's 'removed' events with a segment after `after_event_id`, ascending, at most `limit`; and the largest event
+// id of the map (0 without events).
+std::vector<RemovedSegment> RemovedSegmentsAfter(Connection& c, const std::string& map_id, std::int64_t after_event_id,
+                                                 int limit);
+std::int64_t LastEventId(Connection& c, const std::string& map_id);
 
 std::string EncodeOctomapTree(std::string_view ot_stream);
 std::string DecodeOctomapTree(std::string_view blob, const std::string& map_id);

@@ -27,8 +27,9 @@ Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, co
       analysis(store, events, o.analysis, clock),
       jobs(store, o.jobs, clock),
       audit(store, clock),
-      octomap(store, o.octomap, clock, &grid) {
-  scenes.SetKeyframeListener(&analysis);
+      octomap(store, o.octomap, clock, &grid),
+      octomap_feed(octomap, analysis) {
+  scenes.SetKeyframeListener(&octomap_feed);
 }
 
 }  // namespace anchordb::services

@@ -59,6 +59,14 @@ class OctomapService {
   // a grid to follow, bad bands (field "bands") or a rotated grid.
   ProjectResult Project(const ProjectRequest& request);
 
+  // Brings the map's tree up to date with the rest of the memory (octomap_follow.cc): with octomap_from_keyframes,
+  // every keyframe stored since the last call is back-projected and ray-cast from its camera (max range: the map's);
+  // for every 'removed' change event since then, the voxels of the removed object's segment box are cleared (its
+  // bottom voxel layer kept: the surface it stood on). Progress is stored with the tree, so a restart resumes. A map
+  // without a tree gets one only when there is a keyframe to integrate.
+  FollowReport Follow(const std::string& map);
+  bool HasTree(const std::string& map);
+
   const OctomapSettings& settings() const { return settings_; }
 
  private:

@@ -86,4 +86,11 @@ struct ProjectResult {
   std::vector<ProjectedBand> bands;
 };
 
+// What following the rest of the memory did to a map's tree (OctomapService::Follow).
+struct FollowReport {
+  std::size_t keyframes_integrated = 0;  // stored keyframes ray-cast into the tree (octomap_from_keyframes)
+  std::size_t removal_events = 0;        // 'removed' change events whose object's voxels were cleared
+  std::size_t voxels_cleared = 0;
+};
+
 }  // namespace anchordb::services
