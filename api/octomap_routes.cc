@@ -102,6 +102,22 @@ void RegisterOctomapRoutes(Router& router, OctomapService& s) {
       [&s](const httplib::Request& req, const PathParams& p) {
         return JsonResponse(ToJson(s.ClearBox(p["map"], octomap_json::ParseBox(BodyObject(req)))));
       });
+  router.Add("POST", "/v1/maps/{map}/octomap:decay", Role::kAdmin,
+      "Forgetting for the tree: voxels not confirmed for max_age_s (before now, default the wall clock) go back to "
+      "unknown; reports how many leaves went (audited)",
+      [&s](const httplib::Request& req, const PathParams& p) {
+        const Json body = BodyObject(req);
+        json::RejectUnknownKeys(body, {"max_age_s", "now"});
+        const double age_s = json::RequireFiniteNumber(body, "max_age_s");
+        if (age_s < 0 || age_s > 100 * 365.25 * 86400) {
+          throw Error(ErrorCode::kUnprocessable, "max_age_s must be in [0, 100 years] seconds", "max_age_s");
+        }
+        const std::optional<std::int64_t> now = body.contains("now") ? std::optional<std::int64_t>(json::AsStampNs(body.at("now"), "now"))
+                                                                    : std::nullopt;
+        const DecayResult r = s.Decay(p["map"], age_s, now);
+        return JsonResponse({{"voxels_forgotten", r.leaves_forgotten}, {"cutoff_ns", r.cutoff_ns},
+                             {"octomap", ToJson(r.octomap)}});
+      });
 }
 
 }  // namespace anchordb::api

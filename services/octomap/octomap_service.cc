@@ -242,4 +242,16 @@ std::size_t OctomapService::ForgetOlderThan(const std::string& map, std::int64_t
   return Mutate(map, false, [&](Entry& e) { return e.tree.ForgetOlderThan(cutoff_ns); }).first;
 }
 
+DecayResult OctomapService::Decay(const std::string& map, double max_age_s, std::optional<std::int64_t> now_ns) {
+  const std::int64_t wall = clock_.NowNs();
+  if (now_ns && *now_ns > wall) throw Error(ErrorCode::kUnprocessable, "now must not lie in the future", "now");
+  Load(map, false);  // 404 before anything is created
+  DecayResult r;
+  r.cutoff_ns = now_ns.value_or(wall) - static_cast<std::int64_t>(max_age_s * 1e9);
+  auto [forgotten, info] = Mutate(map, false, [&](Entry& e) { return e.tree.ForgetOlderThan(r.cutoff_ns); });
+  r.leaves_forgotten = forgotten;
+  r.octomap = std::move(info);
+  return r;
+}
+
 }  // namespace anchordb::services

@@ -54,6 +54,9 @@ class OctomapService {
   ClearBoxResult ClearBox(const std::string& map, const engine::Box3& box);
   // Voxels not updated since `cutoff_ns` go back to unknown; returns how many leaves went (0 without a tree).
   std::size_t ForgetOlderThan(const std::string& map, std::int64_t cutoff_ns);
+  // The forgetting policy's decay: voxels not updated for `max_age_s` before `now_ns` (default the clock's now; not
+  // in the future: kUnprocessable field "now") go back to unknown. kNotFound without a tree.
+  DecayResult Decay(const std::string& map, double max_age_s, std::optional<std::int64_t> now_ns);
 
   // Projects height bands into occupancy layers (octomap_projection.cc); kUnprocessable for an empty tree without
   // a grid to follow, bad bands (field "bands") or a rotated grid.

@@ -86,6 +86,12 @@ struct ProjectResult {
   std::vector<ProjectedBand> bands;
 };
 
+struct DecayResult {
+  std::size_t leaves_forgotten = 0;
+  std::int64_t cutoff_ns = 0;
+  OctomapInfo octomap;
+};
+
 // What following the rest of the memory did to a map's tree (OctomapService::Follow).
 struct FollowReport {
   std::size_t keyframes_integrated = 0;  // stored keyframes ray-cast into the tree (octomap_from_keyframes)

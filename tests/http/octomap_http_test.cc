@@ -160,6 +160,17 @@ TEST_F(OctomapHttpTest, OtAndBtRoundTripThroughTheApiAndTheOperatorClearIsAudite
   const json& after = audit[0]["after"];
   ASSERT_TRUE(before.is_object() && after.is_object()) << audit[0].dump();
   EXPECT_LT(after["occupied_leaves"].get<int>(), before["occupied_leaves"].get<int>());
+
+  // Decay by age: nothing is a day old; everything is older than "now" with age 0.
+  EXPECT_EQ(Ok("POST", "/v1/maps/home/octomap:decay", R"({"max_age_s":86400})")["voxels_forgotten"], 0);
+  auto [future, error] = Send("POST", "/v1/maps/home/octomap:decay", R"({"max_age_s":0,"now":"2200-01-01T00:00:00Z"})");
+  EXPECT_EQ(future, 422);
+  EXPECT_EQ(error["error"]["field"], "now");
+  const json decayed = Ok("POST", "/v1/maps/home/octomap:decay", R"({"max_age_s":0})");
+  EXPECT_GT(decayed["voxels_forgotten"].get<int>(), 100);
+  EXPECT_EQ(decayed["octomap"]["leaves"], 0);
+  EXPECT_EQ(States({{2.01, 0.2, 0.75}}), (std::vector<std::string>{"unknown"}));
+  EXPECT_EQ(Ok("GET", "/v1/audit?map=home&action=octomap.decay")["entries"].size(), 3u);
 }
 
 TEST_F(OctomapHttpTest, BadInputGetsAClearErrorAndChangesNothing) {
