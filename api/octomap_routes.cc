@@ -102,6 +102,21 @@ void RegisterOctomapRoutes(Router& router, OctomapService& s) {
       [&s](const httplib::Request& req, const PathParams& p) {
         return JsonResponse(ToJson(s.ClearBox(p["map"], octomap_json::ParseBox(BodyObject(req)))));
       });
+  router.Add("GET", "/v1/maps/{map}/keyframes/{keyframe}/cloud", Role::kReader,
+      "A keyframe as a point cloud: format=pcd|pcd_ascii|pcd_binary|pcd_binary_compressed|ply|ply_ascii|ply_binary, "
+      "frame=map|camera, image=depth|background (the static background when it was stored)",
+      [&s](const httplib::Request& req, const PathParams& p) {
+        const std::string frame = QueryChoice(req, "frame", {"map", "camera"}).value_or("map");
+        const std::string image = QueryChoice(req, "image", {"depth", "background"}).value_or("depth");
+        return Bytes(s.KeyframeCloud(p["map"], PathId(p, "keyframe", "keyframe"), image == "background", frame == "map",
+                                     octomap_json::ParseCloudFormat(Query(req, "format").value_or("pcd"))));
+      });
+  router.Add("GET", "/v1/maps/{map}/events/{event}/cloud", Role::kReader,
+      "The stored points (up to 256, map frame) of a change event's segment as PCD or PLY (format as for keyframes)",
+      [&s](const httplib::Request& req, const PathParams& p) {
+        return Bytes(s.EventSegmentCloud(p["map"], PathId(p, "event", "event"),
+                                         octomap_json::ParseCloudFormat(Query(req, "format").value_or("pcd"))));
+      });
   router.Add("POST", "/v1/maps/{map}/octomap:decay", Role::kAdmin,
       "Forgetting for the tree: voxels not confirmed for max_age_s (before now, default the wall clock) go back to "
       "unknown; reports how many leaves went (audited)",

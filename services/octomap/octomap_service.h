@@ -70,6 +70,16 @@ class OctomapService {
   FollowReport Follow(const std::string& map);
   bool HasTree(const std::string& map);
 
+  // ---- point clouds out (cloud_exports.cc), as PCD / PLY of x, y, z [m]
+  // A stored keyframe's raw depth (or, with `background`, the scene model's static background when it was stored)
+  // back-projected with its camera, in the map frame (merge-corrected camera pose) or the camera's optical frame.
+  // kNotFound field "keyframe".
+  ExportedLayer KeyframeCloud(const std::string& map, std::int64_t keyframe_id, bool background, bool map_frame,
+                              engine::CloudFormat format);
+  // The stored point sample (up to 256 points, map frame) of a change event's segment. kNotFound field "event";
+  // kUnprocessable when the event has no segment.
+  ExportedLayer EventSegmentCloud(const std::string& map, std::int64_t event_id, engine::CloudFormat format);
+
   const OctomapSettings& settings() const { return settings_; }
 
  private:

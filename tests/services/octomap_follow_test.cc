@@ -8,6 +8,7 @@
 #include "services/capabilities.h"
 #include "sim/apartment.h"
 #include "sim/renderer.h"
+#include "storage/blob_codec.h"
 #include "storage/event_repository.h"
 #include "tests/support/temp_dir.h"
 
@@ -84,6 +85,7 @@ TEST_F(OctomapFollowTest, KeyframesBuildTheTreeAndARemovalClearsItsObjectsVoxels
   const engine::Box3 table_below{{lo.x(), lo.y(), lo.z() - 0.06}, {hi.x(), hi.y(), lo.z() - 0.001}};
   const std::size_t table_before = c.octomap.OccupiedVoxels("home", table_below, std::nullopt).voxels.size();
 
+  std::int64_t removal_event = 0;
   // Its removal event, with the segment the analysis would store (the object's box).
   store.Write([&](storage::Connection& conn) {
     storage::SegmentRecord s;
@@ -95,15 +97,20 @@ TEST_F(OctomapFollowTest, KeyframesBuildTheTreeAndARemovalClearsItsObjectsVoxels
       s.centroid[i] = (lo[i] + hi[i]) / 2;
     }
     s.points = 100;
-    s.sample = "";
+    const std::vector<float> sample = {0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f};
+    s.sample = storage::EncodeBlob(storage::BlobElement::kF32, {2, 3}, storage::AsBytes(sample));
     storage::EventRecord e;
     e.map_id = "home";
     e.type = "removed";
     e.detection = "observed";
     e.stamp_ns = 5;
     e.segment_id = storage::InsertSegment(conn, s);
-    storage::InsertEvent(conn, e);
+    removal_event = storage::InsertEvent(conn, e);
   });
+  const engine::DecodedCloud segment =
+      engine::DecodeCloud(c.octomap.EventSegmentCloud("home", removal_event, engine::CloudFormat::kPlyAscii).body, 10);
+  ASSERT_EQ(segment.points.size(), 2u);
+  EXPECT_FLOAT_EQ(segment.points[1].z(), 0.6f);
   const FollowReport cleared = c.octomap.Follow("home");
   EXPECT_EQ(cleared.removal_events, 1u);
   EXPECT_GT(cleared.voxels_cleared, 0u);
@@ -118,6 +125,40 @@ TEST_F(OctomapFollowTest, KeyframesBuildTheTreeAndARemovalClearsItsObjectsVoxels
   const std::size_t forgotten = c.octomap.ForgetOlderThan("home", SystemClock::Instance().NowNs() + 1'000'000'000);
   EXPECT_GT(forgotten, 0u);
   EXPECT_EQ(c.octomap.Get("home").metadata.leaves, 0u);
+}
+
+TEST_F(OctomapFollowTest, KeyframeCloudsRoundTripInEveryFormatAndLieOnTheTreesSurfaces) {
+  c.grid.CreateMap({"home", "home"});
+  const sim::SettingScene setting = sim::MakeSetting(sim::Setting::kTA, 2);
+  const std::int64_t scene_id = Observe(setting.scene, setting.X_WorldCameraA, 20);
+  const std::int64_t kf = c.scenes.Get("home", scene_id).keyframes.at(0).id;
+  const engine::DecodedCloud map_cloud =
+      engine::DecodeCloud(c.octomap.KeyframeCloud("home", kf, false, true, engine::CloudFormat::kPcdBinary).body, 1 << 20);
+  ASSERT_GT(map_cloud.points.size(), 100000u);
+  for (engine::CloudFormat f : {engine::CloudFormat::kPcdAscii, engine::CloudFormat::kPcdBinaryCompressed,
+                                engine::CloudFormat::kPlyAscii, engine::CloudFormat::kPlyBinary}) {
+    const engine::DecodedCloud other =
+        engine::DecodeCloud(c.octomap.KeyframeCloud("home", kf, false, true, f).body, 1 << 20);
+    ASSERT_EQ(other.points.size(), map_cloud.points.size()) << static_cast<int>(f);
+    for (std::size_t i = 0; i < other.points.size(); i += 997) {
+      EXPECT_LT((other.points[i] - map_cloud.points[i]).norm(), 1e-5f) << static_cast<int>(f);
+    }
+  }
+  // The map-frame points are the surfaces the tree holds: nearly all fall in occupied voxels.
+  std::vector<Eigen::Vector3d> sample;
+  for (std::size_t i = 0; i < map_cloud.points.size(); i += 101) sample.push_back(map_cloud.points[i].cast<double>());
+  std::size_t occupied = 0;
+  for (const engine::VoxelState s : States(sample)) occupied += s == engine::VoxelState::kOccupied;
+  EXPECT_GT(static_cast<double>(occupied) / static_cast<double>(sample.size()), 0.9) << occupied << " of " << sample.size();
+  // The camera frame: optical z forward, the same number of points; the background cloud exists too.
+  const engine::DecodedCloud camera_cloud =
+      engine::DecodeCloud(c.octomap.KeyframeCloud("home", kf, false, false, engine::CloudFormat::kPcdBinary).body, 1 << 20);
+  ASSERT_EQ(camera_cloud.points.size(), map_cloud.points.size());
+  const Eigen::Isometry3d& X = setting.X_WorldCameraA;
+  EXPECT_LT(((X * camera_cloud.points[500].cast<double>()).cast<float>() - map_cloud.points[500]).norm(), 1e-3f);
+  EXPECT_GT(engine::DecodeCloud(c.octomap.KeyframeCloud("home", kf, true, true, engine::CloudFormat::kPcdBinary).body,
+                                1 << 20).points.size(), 100000u);
+  EXPECT_THROW(c.octomap.KeyframeCloud("home", kf + 100, false, true, engine::CloudFormat::kPcdBinary), Error);
 }
 
 }  // namespace
