@@ -12,23 +12,14 @@
 #include "engine/octomap/occupancy_tree.h"
 #include "services/grid/grid_service.h"
 #include "services/octomap/octomap_service.h"
+#include "tests/support/real_data_files.h"
 #include "tests/support/temp_dir.h"
 
 namespace anchordb {
 namespace {
 
-std::string Data(const std::string& relative) {
-  const char* env = std::getenv("ANCHORDB_SHARED_DATA");
-  return std::string(env ? env : "../shared/data") + "/" + relative;
-}
-
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read " + path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+std::string Data(const std::string& relative) { return testing::SharedDataPath(relative); }
+using testing::ReadFile;
 
 const char* kFiles[] = {"octomap/geb079.bt", "slambook2_rgbd/ch5_room_octomap_from_slambook1.bt"};
 
@@ -85,20 +76,10 @@ TEST(OctomapRealData, TheStoreKeepsImportedTreesExactly) {
   }
 }
 
-// P5, maxval 65535, big-endian samples.
 std::vector<std::uint16_t> ReadPgm16(const std::string& path) {
-  const std::string b = ReadFile(path);
-  std::istringstream header(b);
-  std::string magic;
-  int width = 0, height = 0, maxval = 0;
-  header >> magic >> width >> height >> maxval;
-  if (magic != "P5" || maxval != 65535 || width != 640 || height != 480) throw std::runtime_error(path);
-  const std::size_t offset = static_cast<std::size_t>(header.tellg()) + 1;
-  std::vector<std::uint16_t> px(640 * 480);
-  for (std::size_t i = 0; i < px.size(); ++i) {
-    px[i] = static_cast<std::uint16_t>((static_cast<std::uint8_t>(b[offset + 2 * i]) << 8) |
-                                       static_cast<std::uint8_t>(b[offset + 2 * i + 1]));
-  }
+  int width = 0, height = 0;
+  std::vector<std::uint16_t> px = testing::ReadPgm16(path, width, height);
+  if (width != 640 || height != 480) throw std::runtime_error(path + " is not 640x480");
   return px;
 }
 
