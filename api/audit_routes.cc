@@ -28,6 +28,8 @@ const std::vector<AuditedAction>& AuditedActions() {
       {"DELETE", "/v1/maps/{map}/layers/{layer}", "layer.delete", nullptr},
       {"POST", "/v1/maps/{map}:forget", "map.forget", nullptr, true},
       {"POST", "/v1/backups", "backup.create", nullptr, true},
+      {"POST", "/v1/maps/{map}/octomap:clear", "octomap.clear", "/v1/maps/{map}/octomap"},
+      {"POST", "/v1/maps/{map}/octomap:decay", "octomap.decay", "/v1/maps/{map}/octomap"},
   };
   return kActions;
 }

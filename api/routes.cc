@@ -5,6 +5,7 @@
 #include "api/furniture_routes.h"
 #include "api/grid_routes.h"
 #include "api/job_routes.h"
+#include "api/octomap_routes.h"
 #include "api/scene_routes.h"
 
 namespace anchordb::api {
@@ -16,6 +17,7 @@ void RegisterAllRoutes(Router& router, services::Capabilities& c) {
   RegisterEventRoutes(router, c.events);
   RegisterAnalysisRoutes(router, c.analysis);
   RegisterJobRoutes(router, c.jobs);
+  RegisterOctomapRoutes(router, c.octomap);
   RegisterAuditRoutes(router, c.audit);  // last: it observes the routes above
 }
 

@@ -10,6 +10,8 @@
 #include "services/furniture/furniture_service.h"
 #include "services/grid/grid_service.h"
 #include "services/jobs/job_service.h"
+#include "services/octomap/octomap_keyframe_feed.h"
+#include "services/octomap/octomap_service.h"
 #include "services/scene/scene_service.h"
 #include "storage/store.h"
 
@@ -24,6 +26,7 @@ struct CapabilityOptions {
   AnalysisQueueSettings analysis;
   FurnitureSettings furniture;
   JobSettings jobs;
+  OctomapSettings octomap;
 };
 
 // Binds the settings of every capability, in a stable order.
@@ -43,6 +46,8 @@ class Capabilities {
   AnalysisQueue analysis;  // keyframe analyses queued by `scenes`; its workers run after analysis.Start()
   JobService jobs;
   AuditService audit;
+  OctomapService octomap;
+  OctomapKeyframeFeed octomap_feed;  // in front of `analysis`: stored keyframes also update the map's tree
 };
 
 }  // namespace anchordb::services

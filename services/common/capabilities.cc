@@ -4,6 +4,7 @@
 #include "services/furniture/furniture_settings.h"
 #include "services/grid/grid_settings.h"
 #include "services/jobs/job_settings.h"
+#include "services/octomap/octomap_settings.h"
 #include "services/scene/scene_settings.h"
 
 namespace anchordb::services {
@@ -15,6 +16,7 @@ void BindCapabilitySettings(SettingsBinder& b, CapabilityOptions& o) {
   BindAnalysisQueueSettings(b, o.analysis);
   BindFurnitureSettings(b, o.furniture);
   BindJobSettings(b, o.jobs);
+  BindOctomapSettings(b, o.octomap);
 }
 
 Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, const Clock& clock)
@@ -24,8 +26,10 @@ Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, co
       events(store, &furniture, o.events, clock),
       analysis(store, events, o.analysis, clock),
       jobs(store, o.jobs, clock),
-      audit(store, clock) {
-  scenes.SetKeyframeListener(&analysis);
+      audit(store, clock),
+      octomap(store, o.octomap, clock, &grid),
+      octomap_feed(octomap, analysis) {
+  scenes.SetKeyframeListener(&octomap_feed);
 }
 
 }  // namespace anchordb::services

@@ -66,6 +66,17 @@ class GridService {
   // kUnprocessable when the layer has no region above the threshold or the robot is not on known free space.
   ViewpointsResult Viewpoints(const ViewpointsRequest& request);
 
+  // ---- occupancy layers written by another capability (the octomap's height-band projection)
+  // The geometry of occupancy layer `layer` (kNotFound, or kUnprocessable field "like" for another kind).
+  GridGeometry OccupancyGeometry(const std::string& map, const std::string& layer);
+  // The first occupancy layer of the map in name order that is not in `except`, if any.
+  std::optional<std::string> FirstOccupancyLayer(const std::string& map, const std::vector<std::string>& except);
+  // Creates or replaces (next version) each named occupancy layer from cells (-1 unknown, 0 free, 100 occupied;
+  // row-major, iy = 0 at the origin row) as a trinary map_server map (free 254, occupied 0, unknown 205), all in one
+  // transaction. kConflict when a name is taken by a layer of another kind.
+  std::vector<LayerInfo> PutOccupancyCells(const std::string& map, const GridGeometry& geometry,
+                                           const std::vector<std::pair<std::string, std::vector<std::int8_t>>>& layers);
+
   const ServiceLimits& limits() const { return limits_; }
 
  private:

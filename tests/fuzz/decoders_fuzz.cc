@@ -3,14 +3,17 @@
 // else (a crash, another exception, a sanitizer report, a leak) is a finding.
 //   blob codec (storage rows) | depth PNG | mask PNG | raw depth | map_server YAML | map image (PGM/PNG) |
 //   JSON object + pose / polygons / log-odds parameters | ISO 8601 times | furniture-graph hypotheses blob |
-//   layer record of any kind, whole or metadata only (selector + metadata JSON + blob, see stored_codecs.h)
+//   layer record of any kind, whole or metadata only (selector + metadata JSON + blob, see stored_codecs.h) |
+//   OctoMap .bt | OctoMap .ot | point cloud (PCD ascii / binary / binary_compressed, PLY)
 // Inputs: the committed corpus tests/fuzz/corpus/decoders (see README.md).
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
 
+#include "engine/cloud/cloud_io.h"
 #include "engine/grid/map_server.h"
+#include "engine/octomap/occupancy_tree.h"
 #include "engine/scene/depth_image.h"
 #include "schema/error.h"
 #include "schema/json_io.h"
@@ -63,6 +66,19 @@ void Decode(std::uint8_t which, std::string_view in) {
       }
       break;
     }
+    case 10: {
+      engine::OccupancyTree tree;
+      tree.ReadBt(in, 1);
+      (void)tree.Metadata();
+      break;
+    }
+    case 11: {
+      engine::OccupancyTree tree;
+      tree.ReadOt(in, 1);
+      (void)tree.Metadata();
+      break;
+    }
+    case 12: (void)engine::DecodeCloud(in, 1 << 16); break;
   }
 }
 

@@ -12,7 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "engine/cloud/cloud_io.h"
 #include "engine/grid/map_server.h"
+#include "engine/octomap/occupancy_tree.h"
 #include "engine/scene/depth_image.h"
 #include "storage/blob_codec.h"
 #include "schema/json_io.h"
@@ -155,6 +157,20 @@ int main(int argc, char** argv) {
   lc::EncodeLayer(fused, record);
   put(9, "layer-fused-meta", layer_seed(selector(D::kFusedMeta), record, false));
   put(9, "layer-fused-geometry", layer_seed(selector(D::kGeometry, LayerKind::kFused), record, false));
+  // OctoMap trees (.bt, .ot) and point clouds (PCD in every DATA kind, PLY) of a small wall (issue 14).
+  std::vector<Eigen::Vector3f> wall;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) wall.emplace_back(1.0f, 0.05f * i, 0.05f * j);
+  }
+  engine::OccupancyTree tree(engine::OccupancyTreeParams{0.1});
+  tree.InsertCloud(wall, Eigen::Vector3d(0, 0, 0.1), 3.0, 1);
+  put(10, "octomap-bt", tree.WriteBt());
+  put(11, "octomap-ot", tree.WriteOt());
+  put(12, "cloud-pcd-ascii", engine::EncodeCloud(wall, engine::CloudFormat::kPcdAscii));
+  put(12, "cloud-pcd-binary", engine::EncodeCloud(wall, engine::CloudFormat::kPcdBinary));
+  put(12, "cloud-pcd-binary-compressed", engine::EncodeCloud(wall, engine::CloudFormat::kPcdBinaryCompressed));
+  put(12, "cloud-ply-ascii", engine::EncodeCloud(wall, engine::CloudFormat::kPlyAscii));
+  put(12, "cloud-ply-binary", engine::EncodeCloud(wall, engine::CloudFormat::kPlyBinary));
   std::printf("%d seeds in %s\n", n, dir.c_str());
   return 0;
 }

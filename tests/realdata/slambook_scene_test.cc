@@ -15,6 +15,7 @@
 #include "services/scene/scene_service.h"
 #include "engine/scene/depth_image.h"
 #include "engine/scene/projection.h"
+#include "tests/support/real_data_files.h"
 #include "tests/support/temp_dir.h"
 
 namespace anchordb {
@@ -25,29 +26,8 @@ std::string DataDir() {
   return std::string(env ? env : "../shared/data") + "/slambook2_rgbd/ch5/rgbd";
 }
 
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read " + path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-// P5, maxval 65535, big-endian samples.
-std::vector<std::uint16_t> ReadPgm16(const std::string& path, int& width, int& height) {
-  const std::string b = ReadFile(path);
-  std::istringstream header(b);
-  std::string magic;
-  int maxval = 0;
-  header >> magic >> width >> height >> maxval;
-  if (magic != "P5" || maxval != 65535) throw std::runtime_error(path + " is not a 16-bit PGM");
-  const std::size_t offset = static_cast<std::size_t>(header.tellg()) + 1;
-  std::vector<std::uint16_t> px(static_cast<std::size_t>(width) * height);
-  for (std::size_t i = 0; i < px.size(); ++i) {
-    px[i] = static_cast<std::uint16_t>((static_cast<std::uint8_t>(b[offset + 2 * i]) << 8) | static_cast<std::uint8_t>(b[offset + 2 * i + 1]));
-  }
-  return px;
-}
+using testing::ReadFile;
+using testing::ReadPgm16;
 
 double MedianNearestNeighbour(const std::vector<Eigen::Vector3f>& reference, const std::vector<Eigen::Vector3f>& query,
                               double cell_m) {
