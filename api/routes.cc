@@ -2,6 +2,7 @@
 
 #include "api/audit_routes.h"
 #include "api/event_routes.h"
+#include "api/feature_routes.h"
 #include "api/furniture_routes.h"
 #include "api/grid_routes.h"
 #include "api/job_routes.h"
@@ -16,6 +17,7 @@ void RegisterAllRoutes(Router& router, services::Capabilities& c) {
   RegisterEventRoutes(router, c.events);
   RegisterAnalysisRoutes(router, c.analysis);
   RegisterJobRoutes(router, c.jobs);
+  RegisterFeatureRoutes(router, c.features);
   RegisterAuditRoutes(router, c.audit);  // last: it observes the routes above
 }
 

@@ -7,6 +7,7 @@
 #include "services/audit/audit_service.h"
 #include "services/events/analysis_queue.h"
 #include "services/events/event_service.h"
+#include "services/features/feature_service.h"
 #include "services/furniture/furniture_service.h"
 #include "services/grid/grid_service.h"
 #include "services/jobs/job_service.h"
@@ -24,6 +25,7 @@ struct CapabilityOptions {
   AnalysisQueueSettings analysis;
   FurnitureSettings furniture;
   JobSettings jobs;
+  FeatureSettings features;
 };
 
 // Binds the settings of every capability, in a stable order.
@@ -43,6 +45,7 @@ class Capabilities {
   AnalysisQueue analysis;  // keyframe analyses queued by `scenes`; its workers run after analysis.Start()
   JobService jobs;
   AuditService audit;
+  FeatureService features;  // anchored features, codebooks (its job kind registers with `jobs`)
 };
 
 }  // namespace anchordb::services

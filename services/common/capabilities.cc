@@ -1,6 +1,7 @@
 #include "services/capabilities.h"
 
 #include "services/events/event_settings.h"
+#include "services/features/feature_settings.h"
 #include "services/furniture/furniture_settings.h"
 #include "services/grid/grid_settings.h"
 #include "services/jobs/job_settings.h"
@@ -15,6 +16,7 @@ void BindCapabilitySettings(SettingsBinder& b, CapabilityOptions& o) {
   BindAnalysisQueueSettings(b, o.analysis);
   BindFurnitureSettings(b, o.furniture);
   BindJobSettings(b, o.jobs);
+  BindFeatureSettings(b, o.features);
 }
 
 Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, const Clock& clock)
@@ -24,7 +26,8 @@ Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, co
       events(store, &furniture, o.events, clock),
       analysis(store, events, o.analysis, clock),
       jobs(store, o.jobs, clock),
-      audit(store, clock) {
+      audit(store, clock),
+      features(store, jobs, o.features, clock) {
   scenes.SetKeyframeListener(&analysis);
 }
 
