@@ -180,4 +180,27 @@ Json ToJson(const services::BowResult& r) {
   return {{"type", r.type}, {"words", r.words}, {"features", r.features}, {"histogram", r.histogram}};
 }
 
+services::ExtractRequest ParseExtractRequest(const Json& body) {
+  json::RejectUnknownKeys(body, {"types"});
+  services::ExtractRequest r;
+  if (body.contains("types")) {
+    const Json& types = body["types"];
+    if (!types.is_array() || types.size() > 8) throw Error(ErrorCode::kInvalidArgument, "types must be an array of names", "types");
+    r.types.clear();
+    for (const Json& t : types) {
+      if (!t.is_string() || t.get<std::string>().size() > 40) throw Error(ErrorCode::kInvalidArgument, "types must be names", "types");
+      r.types.push_back(t.get<std::string>());
+    }
+  }
+  return r;
+}
+
+Json ToJson(const services::ExtractResult& r) {
+  Json types = Json::array();
+  for (const auto& t : r.types) {
+    types.push_back({{"type", t.type}, {"extracted", t.extracted}, {"inserted", t.inserted}, {"duplicates", t.duplicates}});
+  }
+  return {{"keyframe", r.keyframe}, {"points", r.points}, {"types", types}, {"extract_seconds", r.extract_seconds}};
+}
+
 }  // namespace anchordb::api

@@ -20,5 +20,8 @@ Json ToJson(const services::CodebookView& book, bool centres);
 // type= and one of near=&radius=, bbox=, polygon=x,y;x,y;x,y; since=, until=.
 services::BowQuery ParseBowQuery(const httplib::Request& req);
 Json ToJson(const services::BowResult& r);
+// {"types": [...]?} (default fpfh, shot, spd)
+services::ExtractRequest ParseExtractRequest(const Json& body);
+Json ToJson(const services::ExtractResult& r);
 
 }  // namespace anchordb::api

@@ -22,12 +22,17 @@ void RegisterFeatureRoutes(Router& router, FeatureService& f) {
   router.Add("GET", "/v1/maps/{map}/features", Role::kReader,
       "Anchored features (type=, near=x,y,z&radius=, bbox=, since=, until=, keyframe=, after=, limit=, descriptors=)",
       [&f](Req req, const PathParams& p) { return JsonResponse(ToJson(f.List(p["map"], ParseFeatureQuery(req)))); });
+  router.Add("POST", "/v1/maps/{map}/keyframes/{keyframe}:extract", Role::kWriter,
+      "Extract fpfh, shot and spd features from a keyframe's cloud ({\"types\"?}) and store them de-duplicated",
+      [&f](Req req, const PathParams& p) {
+        const ExtractRequest r = ParseExtractRequest(BodyObject(req));
+        return JsonResponse(ToJson(f.ExtractKeyframe(p["map"], PathId(p, "keyframe", "keyframe"), r)));
+      });
   router.Add("POST", "/v1/maps/{map}/codebooks", Role::kWriter,
       "Build the codebook of a feature type by k-means ({type, words, seed}) and assign every feature its codeword; "
       "202 with the job",
       [&f](Req req, const PathParams& p) {
-        Response r = JsonResponse(ToJson(f.SubmitCodebook(p["map"], ParseCodebookRequest(json::ParseObject(req.body)))), 202);
-        return r;
+        return JsonResponse(ToJson(f.SubmitCodebook(p["map"], ParseCodebookRequest(json::ParseObject(req.body)))), 202);
       });
   router.Add("GET", "/v1/maps/{map}/codebooks/{type}", Role::kReader, "A codebook (centres=true for the centres)",
       [&f](Req req, const PathParams& p) {

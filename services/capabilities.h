@@ -8,6 +8,7 @@
 #include "services/events/analysis_queue.h"
 #include "services/events/event_service.h"
 #include "services/features/feature_service.h"
+#include "services/features/keyframe_extraction.h"
 #include "services/furniture/furniture_service.h"
 #include "services/grid/grid_service.h"
 #include "services/jobs/job_service.h"
@@ -46,6 +47,7 @@ class Capabilities {
   JobService jobs;
   AuditService audit;
   FeatureService features;  // anchored features, codebooks (its job kind registers with `jobs`)
+  KeyframeExtraction keyframe_features;  // in front of `analysis`: features of every keyframe, by setting
 };
 
 }  // namespace anchordb::services

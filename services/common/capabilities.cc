@@ -27,8 +27,9 @@ Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, co
       analysis(store, events, o.analysis, clock),
       jobs(store, o.jobs, clock),
       audit(store, clock),
-      features(store, jobs, o.features, clock) {
-  scenes.SetKeyframeListener(&analysis);
+      features(store, jobs, o.features, clock),
+      keyframe_features(features, &analysis, o.features.extract_every_keyframe) {
+  scenes.SetKeyframeListener(&keyframe_features);
 }
 
 }  // namespace anchordb::services

@@ -29,6 +29,11 @@ class FeatureService {
   // kNotFound without a codebook; kInvalidArgument unless exactly one of sphere, box, polygon is given.
   BowResult BagOfWords(const std::string& map, const BowQuery& query);
 
+  // Extracts features from a keyframe's cloud (its raw depth back-projected with its model's camera into the map
+  // frame) outside the write lock, then stores them as batches with the keyframe's id and stamp (de-duplicated).
+  // Unknown keyframe: kNotFound; a type outside fpfh, shot, spd: kInvalidArgument ("types").
+  ExtractResult ExtractKeyframe(const std::string& map, std::int64_t keyframe, const ExtractRequest& request);
+
   const FeatureSettings& settings() const { return settings_; }
 
  private:

@@ -16,6 +16,14 @@ void BindFeatureSettings(SettingsBinder& b, FeatureSettings& f) {
            " feature is a duplicate (0: only exact repeats)", &x.t->descriptor_distance, 0, 1e6);
   }
   b.Bind("features_max_batch", "most features in one client batch", &f.max_batch, 1, 1000000);
+  b.Bind("features_extract_every_keyframe", "extract fpfh, shot and spd from every new keyframe after its write (a worker "
+         "thread outside the write lock)", &f.extract_every_keyframe);
+  b.Bind("features_extract_voxel_m", "extraction thins the keyframe cloud to this voxel size [m]", &f.extraction.voxel_m, 0.002, 1);
+  b.Bind("features_extract_normal_radius_m", "radius of the normal estimate [m]", &f.extraction.normal_radius_m, 0.005, 2);
+  b.Bind("features_extract_feature_radius_m", "support radius of FPFH and SHOT [m]", &f.extraction.feature_radius_m, 0.01, 5);
+  b.Bind("features_extract_keypoint_voxel_m", "one FPFH/SHOT keypoint per voxel of this size [m]", &f.extraction.keypoint_voxel_m,
+         0.01, 5);
+  b.Bind("features_extract_max_planes", "most RANSAC planes (spd) per keyframe", &f.extraction.max_planes, 0, 100);
   b.Bind("features_max_codebook_words", "most words of one codebook", &f.max_codebook_words, 2, 100000);
 }
 

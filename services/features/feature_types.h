@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "engine/features/extraction.h"
 #include "engine/features/features.h"
 #include "storage/feature_repository.h"
 
@@ -21,6 +22,26 @@ struct FeatureSettings {
   engine::DedupThreshold other{0.02, 0.0};
   int max_batch = 10000;      // features in one client batch
   int max_codebook_words = 4096;
+  engine::ExtractionParams extraction;
+  bool extract_every_keyframe = false;  // extract fpfh, shot and spd from every new keyframe (after its write)
+};
+
+// Server-side extraction from one keyframe's cloud (types a subset of fpfh, shot, spd).
+struct ExtractRequest {
+  std::vector<std::string> types{"fpfh", "shot", "spd"};
+};
+
+struct ExtractResult {
+  std::int64_t keyframe = 0;
+  int points = 0;  // of the keyframe's cloud
+  struct PerType {
+    std::string type;
+    int extracted = 0;
+    int inserted = 0;
+    int duplicates = 0;
+  };
+  std::vector<PerType> types;
+  double extract_seconds = 0.0;  // PCL time, outside the write lock
 };
 
 struct FeatureItem {

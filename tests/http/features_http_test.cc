@@ -2,8 +2,10 @@
 // on insert, box / radius / time queries, a codebook job, bags of words, refusal of bad input with nothing stored,
 // and everything as it was after a restart.
 #include "api/http_api.h"  // Eigen before httplib (see api/http_api.h)
+#include "tests/support/scene_request_json.h"
 #include "tests/support/server_process.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/wall_and_box.h"
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -20,8 +22,8 @@ using nlohmann::json;
 
 class FeaturesHttpTest : public ::testing::Test {
  protected:
-  void Start() {
-    server_ = std::make_unique<testing::ServerProcess>(dir_.File("db.sqlite"));
+  void Start(std::vector<std::string> args = {}) {
+    server_ = std::make_unique<testing::ServerProcess>(dir_.File("db.sqlite"), std::move(args));
     client_ = std::make_unique<httplib::Client>("127.0.0.1", server_->port());
     client_->set_read_timeout(30, 0);
   }
@@ -56,6 +58,21 @@ class FeaturesHttpTest : public ::testing::Test {
   // An x_test feature: descriptor [v, 0, 0, 0] at (x, y, 0).
   static json Item(double v, double x, double y) {
     return {{"descriptor", {v, 0, 0, 0}}, {"anchor_m", {x, y, 0.0}}};
+  }
+
+  // Opens a scene facing the wall-and-box scene (camera 1 m up, looking along +x) and posts one raw frame; returns
+  // the begin keyframe's id.
+  std::int64_t KeyframeOfWallAndBox(const std::string& map = "home") {
+    Eigen::Isometry3d X_MapCamera = Eigen::Isometry3d::Identity();
+    X_MapCamera.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;  // optical z forward = map x, optical x right = map -y
+    X_MapCamera.translation() = Eigen::Vector3d(0, 0, 1);
+    const json opened = Post("/v1/maps/" + map + "/scenes", {{"camera", testing::CameraJson(testing::WallCamera())},
+                                                      {"pose", testing::PoseJson(X_MapCamera)}, {"stamp", 7000}}, 201);
+    const auto depth = testing::WallDepthMm(true);
+    auto r = client_->Post("/v1/maps/" + map + "/scenes/" + std::to_string(opened["id"].get<std::int64_t>()) + "/frames?stamp=7000",
+                           std::string(reinterpret_cast<const char*>(depth.data()), depth.size() * 2), "application/octet-stream");
+    EXPECT_TRUE(r && r->status == 200) << (r ? r->body : "");
+    return json::parse(r->body)["keyframe"].get<std::int64_t>();
   }
 
   testing::TempDir dir_;
@@ -142,6 +159,48 @@ TEST_F(FeaturesHttpTest, BatchesQueriesCodebookBagOfWordsAndRestart) {
   EXPECT_EQ(Get("/v1/maps/home/features")["features"].size(), 7u);
   EXPECT_EQ(Get("/v1/maps/home/codebooks/x_test?centres=true")["centres"], book["centres"]);
   EXPECT_EQ(Get("/v1/maps/home/bow?type=x_test&polygon=4,4;6,4;6,6;4,6")["histogram"], bow["histogram"]);
+}
+
+
+TEST_F(FeaturesHttpTest, ServerSideExtractionIsDeduplicatedAndCanRunForEveryKeyframe) {
+  Start();
+  Post("/v1/maps", {{"id", "home"}, {"name", "home"}}, 201);
+  const std::int64_t kf = KeyframeOfWallAndBox();
+  const std::string path = "/v1/maps/home/keyframes/" + std::to_string(kf) + ":extract";
+  const json first = Post(path, json::object(), 200);
+  std::map<std::string, int> inserted;
+  for (const json& t : first["types"]) inserted[t["type"]] = t["inserted"];
+  EXPECT_GT(inserted["fpfh"], 10);
+  EXPECT_EQ(inserted["fpfh"], inserted["shot"]);
+  EXPECT_GE(inserted["spd"], 1);  // the wall (the box face is under the plane size limit or a second plane)
+  const json features = Get("/v1/maps/home/features?keyframe=" + std::to_string(kf) + "&type=spd")["features"];
+  ASSERT_FALSE(features.empty());
+  EXPECT_NEAR(features[0]["anchor_m"][0].get<double>(), 2.0, 0.05);  // the wall, 2 m ahead
+  EXPECT_EQ(features[0]["stamp"], 7000);
+  EXPECT_EQ(features[0]["descriptor"].size(), 8u);
+  // The same keyframe again: every feature is a duplicate of one stored.
+  const json again = Post(path, json::object(), 200);
+  for (const json& t : again["types"]) {
+    EXPECT_EQ(t["inserted"], 0) << t.dump();
+    EXPECT_EQ(t["duplicates"], t["extracted"]);
+  }
+  EXPECT_EQ(Post(path, {{"types", {"orb"}}}, 400)["error"]["field"], "types");
+  Post("/v1/maps/home/keyframes/999:extract", json::object(), 404);
+
+  // With the setting on, the keyframe of a new scene gets its features without being asked (in another map: here
+  // they would all be duplicates of those above).
+  client_.reset();
+  ASSERT_EQ(server_->Stop(), 0);
+  server_.reset();
+  Start({"--features_extract_every_keyframe=true"});
+  Post("/v1/maps", {{"id", "flat"}, {"name", "flat"}}, 201);
+  const std::int64_t automatic = KeyframeOfWallAndBox("flat");
+  json found;
+  for (int i = 0; i < 200 && found.empty(); ++i) {
+    found = Get("/v1/maps/flat/features?type=fpfh&keyframe=" + std::to_string(automatic))["features"];
+    if (found.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  EXPECT_FALSE(found.empty());
 }
 
 }  // namespace
