@@ -5,6 +5,7 @@
 #include "schema/clock.h"
 #include "schema/settings.h"
 #include "services/audit/audit_service.h"
+#include "services/classification/classifier_service.h"
 #include "services/events/analysis_queue.h"
 #include "services/events/event_service.h"
 #include "services/features/feature_service.h"
@@ -48,6 +49,7 @@ class Capabilities {
   AuditService audit;
   FeatureService features;  // anchored features, codebooks (its job kind registers with `jobs`)
   KeyframeExtraction keyframe_features;  // in front of `analysis`: features of every keyframe, by setting
+  ClassifierService classifiers;  // E-SAMME models (its training job kind registers with `jobs`)
 };
 
 }  // namespace anchordb::services

@@ -113,7 +113,10 @@ CrossValidationReport CrossValidate(const TrainingSet& data, const EsammeOptions
     const TrainingSet test = SubsetOf(data, test_idx);
     EsammeOptions fold_options = options;
     fold_options.seed = options.seed + static_cast<std::uint64_t>(f) * 1000003u;
-    const EsammeModel model = TrainEsamme(train, fold_options);
+    const int total = folds * options.rounds;
+    const EsammeModel model = TrainEsamme(train, fold_options, [&](int done, int) {
+      return !callback || callback(f * options.rounds + done, total);
+    });
     report.rounds_per_fold.push_back(static_cast<int>(model.rounds.size()));
     const auto train_err = StagedErrors(model, PredictRounds(model, train.features), train.labels, options.rounds, nullptr);
     std::vector<int> final_pred;
@@ -138,7 +141,6 @@ CrossValidationReport CrossValidate(const TrainingSet& data, const EsammeOptions
       AddShare(report.setting_share, s.Name());
       AddShare(report.feature_share, model.feature_types[static_cast<std::size_t>(round.feature_type)]);
     }
-    if (callback && !callback(f + 1, folds)) throw Error(ErrorCode::kConflict, "cancelled");
   }
   report.test_error = tested ? static_cast<double>(wrong) / tested : 0.0;
   Normalise(report.kind_share);

@@ -34,7 +34,8 @@ struct CrossValidationReport {
 
 // Cross-validates with the given fold of every sample (e.g. StratifiedFolds, or folds read from a file). Throws
 // Error(kInvalidArgument) when `fold_of_sample` does not fit (size, a fold without samples, fewer than two folds),
-// and as TrainEsamme for each fold. `callback(done, total)` counts trained folds; false cancels (Error kConflict).
+// and as TrainEsamme for each fold. `callback(done, total)` counts boosting rounds over all folds (a fold that stops early jumps ahead); false
+// cancels (Error kConflict).
 CrossValidationReport CrossValidate(const TrainingSet& data, const EsammeOptions& options,
                                     const std::vector<int>& fold_of_sample, const RoundCallback& callback = {});
 

@@ -28,7 +28,8 @@ Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, co
       jobs(store, o.jobs, clock),
       audit(store, clock),
       features(store, jobs, o.features, clock),
-      keyframe_features(features, &analysis, o.features.extract_every_keyframe) {
+      keyframe_features(features, &analysis, o.features.extract_every_keyframe),
+      classifiers(store, jobs, clock) {
   scenes.SetKeyframeListener(&keyframe_features);
 }
 
