@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
+#include <pcl/console/print.h>
 #include <pcl/features/fpfh.h>
 #include <pcl/features/normal_3d.h>
 #include <pcl/features/shot.h>
@@ -115,6 +116,8 @@ void AddPlanes(const Cloud::Ptr& cloud, const Eigen::Vector3d& sensor_m, const E
 std::vector<ExtractedFeature> ExtractFeatures(const std::vector<Eigen::Vector3f>& points_m,
                                               const Eigen::Vector3d& sensor_origin_m,
                                               const std::vector<std::string>& types, const ExtractionParams& p) {
+  // SHOT reports every keypoint without a valid local frame on stderr; those keypoints are skipped (zeros) anyway.
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
   std::vector<ExtractedFeature> out;
   auto raw = std::make_shared<Cloud>();
   raw->reserve(points_m.size());
