@@ -1,8 +1,11 @@
 // Prints the room categorisation evaluation (thesis 4.3.3) on synthetic rooms beside the thesis' figures.
 //   anchordb_eval_rooms [--rooms_per_category 10] [--rounds 30] [--seed 1] [--update thesis|sklearn]
-//                       [--selection maximum|roulette|weights] [--sample_factor 0.6]
+//                       [--selection maximum|roulette|weights] [--sample_factor 0.6] [--cache FILE]
+// --cache keeps the bags of words in FILE (written on the first run, read on later ones: only the boosting reruns).
 #include <chrono>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "sim/rooms.h"
@@ -11,6 +14,37 @@
 using namespace anchordb;
 
 namespace {
+
+// The bags as text: a header line "rooms types words..." then per room its label and every type's histogram.
+void SaveBags(const std::string& path, const eval::RoomsData& d) {
+  std::ofstream out(path);
+  out << d.bags.labels.size() << " " << d.keyframes << " " << d.mean_points_per_room << " " << d.extract_seconds;
+  for (const auto& m : d.bags.features) out << " " << m.cols();
+  out << "\n";
+  for (std::size_t r = 0; r < d.bags.labels.size(); ++r) {
+    out << d.bags.labels[r];
+    for (const auto& m : d.bags.features) for (Eigen::Index w = 0; w < m.cols(); ++w) out << " " << m(static_cast<Eigen::Index>(r), w);
+    out << "\n";
+  }
+}
+
+bool LoadBags(const std::string& path, eval::RoomsData& d) {
+  std::ifstream in(path);
+  std::size_t rooms = 0;
+  if (!(in >> rooms >> d.keyframes >> d.mean_points_per_room >> d.extract_seconds)) return false;
+  std::vector<int> words(3);
+  for (int& w : words) in >> w;
+  d.bags.feature_types = {"fpfh", "shot", "spd"};
+  for (int c = 0; c < sim::kRoomCategoryCount; ++c) d.bags.class_names.push_back(sim::RoomCategoryName(c));
+  for (int w : words) d.bags.features.emplace_back(static_cast<Eigen::Index>(rooms), w);
+  for (std::size_t r = 0; r < rooms; ++r) {
+    int label = 0;
+    in >> label;
+    d.bags.labels.push_back(label);
+    for (auto& m : d.bags.features) for (Eigen::Index w = 0; w < m.cols(); ++w) in >> m(static_cast<Eigen::Index>(r), w);
+  }
+  return static_cast<bool>(in);
+}
 
 void PrintRun(const char* name, const engine::CrossValidationReport& r, bool details) {
   const auto& e = r.test_error_per_round;
@@ -41,6 +75,7 @@ void PrintRun(const char* name, const engine::CrossValidationReport& r, bool det
 
 int main(int argc, char** argv) {
   eval::RoomsEvalOptions o;
+  std::string cache;
   o.esamme.rounds = 30;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string key = argv[i], value = argv[i + 1];
@@ -50,6 +85,7 @@ int main(int argc, char** argv) {
     else if (key == "--update") o.esamme.update = engine::ParseWeightUpdate(value);
     else if (key == "--selection") o.esamme.selection = engine::ParseSelection(value);
     else if (key == "--sample_factor") o.esamme.sample_factor = std::stod(value);
+    else if (key == "--cache") cache = value;
     else {
       std::fprintf(stderr, "unknown option %s\n", key.c_str());
       return 2;
@@ -57,7 +93,13 @@ int main(int argc, char** argv) {
   }
   o.esamme.base = eval::RoomsBaseSet();
   o.esamme.seed = o.seed;
-  const eval::RoomsData data = eval::MakeRoomsData(o);
+  eval::RoomsData data;
+  if (cache.empty() || !LoadBags(cache, data)) {
+    data = eval::MakeRoomsData(o);
+    if (!cache.empty()) SaveBags(cache, data);
+  } else {
+    std::printf("(bags of words read from %s)\n", cache.c_str());
+  }
   const int rooms = static_cast<int>(data.bags.labels.size());
   std::printf("Room categorisation (thesis 4.3.3) on %d synthetic rooms (%d per category, seed %llu), %d keyframes "
               "(320x240, Kinect-like sensor), %.0f points per room;\nfeatures per room: fpfh %.0f, shot %.0f, spd %.1f; "
