@@ -153,4 +153,44 @@ Json ToJson(const std::vector<services::ClassPrediction>& predictions) {
   return {{"predictions", list}};
 }
 
+services::ClassifyRoomsRequest ParseClassifyRoomsRequest(const std::string& map, const Json& body) {
+  json::RejectUnknownKeys(body, {"classifier", "regions", "into"});
+  services::ClassifyRoomsRequest r;
+  r.map = map;
+  r.classifier = json::RequireId(body, "classifier");
+  if (auto into = json::OptionalString(body, "into", 64)) {
+    json::CheckId(*into, "into");
+    r.into = *into;
+  }
+  const Json& regions = json::Require(body, "regions");
+  if (!regions.is_array() || regions.empty() || regions.size() > 1000) {
+    throw Error(ErrorCode::kInvalidArgument, "regions is an array of 1 to 1000 regions", "regions");
+  }
+  for (std::size_t i = 0; i < regions.size(); ++i) {
+    const std::string field = "regions[" + std::to_string(i) + "]";
+    const Json& g = regions[i];
+    if (!g.is_object()) throw Error(ErrorCode::kInvalidArgument, "a region is an object", field);
+    json::RejectUnknownKeys(g, {"id", "polygon"}, field);
+    services::RoomRegion region;
+    region.id = json::OptionalString(g, "id", 64, field).value_or(std::to_string(i));
+    const Json& polygon = json::Require(g, "polygon", field);
+    if (!polygon.is_array() || polygon.size() < 3 || polygon.size() > 10000) {
+      throw Error(ErrorCode::kInvalidArgument, "a polygon has 3 to 10000 vertices [x, y]", field + ".polygon");
+    }
+    for (const Json& v : polygon) region.polygon_m.push_back(json::AsVector2(v, field + ".polygon"));
+    r.regions.push_back(std::move(region));
+  }
+  return r;
+}
+
+Json ToJson(const std::vector<services::RoomClassification>& rooms) {
+  Json list = Json::array();
+  for (const auto& r : rooms) {
+    Json d = Json::object();
+    for (const auto& [label, share] : r.distribution) d[label] = share;
+    list.push_back({{"id", r.id}, {"label", r.label}, {"distribution", d}, {"features", r.features}});
+  }
+  return {{"regions", list}};
+}
+
 }  // namespace anchordb::api

@@ -15,4 +15,8 @@ Json ToJson(const services::ClassifierView& v);
 services::PredictRequest ParsePredictRequest(const Json& body);
 Json ToJson(const std::vector<services::ClassPrediction>& predictions);
 
+// {"classifier", "regions": [{"id"?, "polygon": [[x, y], ...]}], "into"?}
+services::ClassifyRoomsRequest ParseClassifyRoomsRequest(const std::string& map, const Json& body);
+Json ToJson(const std::vector<services::RoomClassification>& rooms);
+
 }  // namespace anchordb::api

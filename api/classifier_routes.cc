@@ -25,6 +25,12 @@ void RegisterClassifierRoutes(Router& router, ClassifierService& c) {
       });
   router.Add("GET", "/v1/classifiers/{name}", Role::kReader, "One classifier: classes, feature types, options, report",
       [&c](Req, const PathParams& p) { return JsonResponse(ToJson(c.Get(p["name"]))); });
+  router.Add("POST", "/v1/maps/{map}/rooms:classify", Role::kWriter,
+      "Room categories of regions from the bags of words of their features ({classifier, regions: [{id, polygon}], into?}); "
+      "with into, the most probable category is painted into that label layer",
+      [&c](Req req, const PathParams& p) {
+        return JsonResponse(ToJson(c.ClassifyRooms(ParseClassifyRoomsRequest(p["map"], json::ParseObject(req.body)))));
+      });
   router.Add("POST", "/v1/classifiers/{name}:predict", Role::kReader,
       "Class distributions of samples ({samples: [{features: {<type>: [...]}}], rounds?})",
       [&c](Req req, const PathParams& p) {

@@ -192,8 +192,9 @@ ClassifierView ViewOf(const storage::ClassifierRecord& r) {
 
 }  // namespace
 
-ClassifierService::ClassifierService(storage::Store& store, JobService& jobs, const Clock& clock)
-    : store_(store), jobs_(jobs), clock_(clock) {
+ClassifierService::ClassifierService(storage::Store& store, JobService& jobs, FeatureService& features, GridService& grid,
+                                     const Clock& clock)
+    : store_(store), jobs_(jobs), features_(features), grid_(grid), clock_(clock) {
   JobKind kind;
   kind.name = "classifier_train";
   kind.first_stage = "cross-validating";
@@ -283,6 +284,54 @@ std::vector<ClassPrediction> ClassifierService::Predict(const std::string& name,
     c.label = model->class_names[static_cast<std::size_t>(p.label)];
     for (std::size_t k = 0; k < p.distribution.size(); ++k) c.distribution.emplace_back(model->class_names[k], p.distribution[k]);
     out.push_back(std::move(c));
+  }
+  return out;
+}
+
+std::vector<RoomClassification> ClassifierService::ClassifyRooms(const ClassifyRoomsRequest& request) {
+  if (request.regions.empty()) throw Error(ErrorCode::kInvalidArgument, "no regions", "regions");
+  const auto model = Model(request.classifier);
+  PredictRequest predict;
+  std::vector<RoomClassification> out;
+  for (std::size_t r = 0; r < request.regions.size(); ++r) {
+    RoomClassification room;
+    room.id = request.regions[r].id;
+    std::map<std::string, std::vector<float>> sample;
+    for (std::size_t t = 0; t < model->feature_types.size(); ++t) {
+      const std::string& type = model->feature_types[t];
+      BowQuery q;
+      q.type = type;
+      q.polygon_m = request.regions[r].polygon_m;
+      BowResult bow;
+      try {
+        bow = features_.BagOfWords(request.map, q);
+      } catch (const Error& e) {
+        if (e.code() != ErrorCode::kNotFound || e.field() != "type") throw;
+        throw Error(ErrorCode::kUnprocessable, "map '" + request.map + "' has no codebook of '" + type + "'", "classifier");
+      }
+      if (bow.words != model->feature_dims[t]) {
+        throw Error(ErrorCode::kUnprocessable, "the codebook of '" + type + "' has " + std::to_string(bow.words) +
+                                                   " words, the classifier expects " + std::to_string(model->feature_dims[t]),
+                    "classifier");
+      }
+      sample[type] = std::vector<float>(bow.histogram.begin(), bow.histogram.end());
+      room.features.push_back(bow.features);
+    }
+    predict.samples.push_back(std::move(sample));
+    out.push_back(std::move(room));
+  }
+  const auto predictions = Predict(request.classifier, predict);
+  for (std::size_t r = 0; r < out.size(); ++r) {
+    out[r].label = predictions[r].label;
+    out[r].distribution = predictions[r].distribution;
+    if (!request.into.empty()) {
+      PaintLabelRequest paint;
+      paint.map = request.map;
+      paint.layer = request.into;
+      paint.label = out[r].label;
+      paint.polygons_M = {request.regions[r].polygon_m};
+      grid_.PaintLabel(paint);
+    }
   }
   return out;
 }

@@ -53,4 +53,25 @@ struct ClassPrediction {
   std::vector<std::pair<std::string, double>> distribution;  // every class, in the model's order
 };
 
+// Room classification (thesis 4.3): each region's features -> one bag of words per feature type of the classifier
+// (the map's codebooks; their word counts must be the classifier's descriptor lengths) -> the class distribution.
+struct RoomRegion {
+  std::string id;                      // the caller's name for the region (echoed back)
+  std::vector<Eigen::Vector2d> polygon_m;  // map frame [m], >= 3 vertices (a vertical prism: every height)
+};
+
+struct ClassifyRoomsRequest {
+  std::string map;
+  std::string classifier;
+  std::vector<RoomRegion> regions;
+  std::string into;  // a label layer to paint the most probable category into ("": none)
+};
+
+struct RoomClassification {
+  std::string id;
+  std::string label;
+  std::vector<std::pair<std::string, double>> distribution;
+  std::vector<int> features;  // per feature type of the classifier: how many were inside
+};
+
 }  // namespace anchordb::services

@@ -29,7 +29,7 @@ Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, co
       audit(store, clock),
       features(store, jobs, o.features, clock),
       keyframe_features(features, &analysis, o.features.extract_every_keyframe),
-      classifiers(store, jobs, clock) {
+      classifiers(store, jobs, features, grid, clock) {
   scenes.SetKeyframeListener(&keyframe_features);
 }
 

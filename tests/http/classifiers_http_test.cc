@@ -1,6 +1,7 @@
 // Trained E-SAMME classifiers over real HTTP on loopback: training as a job with a cross-validation report,
 // predictions identical after a restart, bad input refused with nothing stored, cancellation of a running job.
 #include "api/http_api.h"  // Eigen before httplib (see api/http_api.h)
+#include "tests/support/grid_test_map.h"
 #include "tests/support/server_process.h"
 #include "tests/support/temp_dir.h"
 
@@ -145,6 +146,60 @@ TEST_F(ClassifiersHttpTest, TrainingCanBeCancelled) {
   EXPECT_EQ(done.value("status", ""), "failed");
   EXPECT_EQ(done.value("error", ""), "cancelled");
   Call("GET", "/v1/classifiers/slow", {}, 404);
+}
+
+// Two rooms side by side in a map, each with features of its own kind; a classifier trained on bags of words of the
+// map's codebook names each region and paints it into a label layer.
+TEST_F(ClassifiersHttpTest, RoomsAreClassifiedFromTheirBagsOfWords) {
+  Start();
+  Call("POST", "/v1/maps", {{"id", "home"}, {"name", "home"}}, 201);
+  auto occ = client_->Put("/v1/maps/home/layers/occ",
+                          httplib::MultipartFormDataItems{{"yaml", testing::GridTestYaml(), "map.yaml", "text/yaml"},
+                                                          {"image", testing::GridTestPgm(), "map.pgm", "image/x-portable-graymap"}});
+  ASSERT_TRUE(occ && occ->status / 100 == 2) << (occ ? occ->body : "");
+  auto rooms = client_->Put("/v1/maps/home/layers/rooms", R"({"kind":"label","base":"occ"})", "application/json");
+  ASSERT_TRUE(rooms && rooms->status / 100 == 2) << (rooms ? rooms->body : "");
+  // Room A (x < 1): mostly descriptors near 0; room B (x > 1): mostly near 10.
+  json features = json::array();
+  for (int i = 0; i < 12; ++i) {
+    const double v = i < 9 ? 0.1 * i : 10.0;
+    features.push_back({{"descriptor", {v, 0.0}}, {"anchor_m", {0.2 + 0.05 * i, 0.5, 0.3}}});
+    features.push_back({{"descriptor", {10.0 - (i < 9 ? 0.1 * i : 10.0), 0.0}}, {"anchor_m", {1.6 + 0.05 * i, 0.5, 0.3}}});
+  }
+  Call("POST", "/v1/maps/home/features", {{"type", "x_look"}, {"features", features}}, 200);
+  const json job = Call("POST", "/v1/maps/home/codebooks", {{"type", "x_look"}, {"words", 2}, {"seed", 1}}, 202);
+  ASSERT_EQ(WaitJob(job["job"].get<std::int64_t>()).value("status", ""), "succeeded");
+  const json centres = Call("GET", "/v1/maps/home/codebooks/x_look?centres=true", {}, 200)["centres"];
+  const int low = centres[0].get<double>() < centres[2].get<double>() ? 0 : 1;  // the word of the descriptors near 0
+  // Kitchens are mostly low words, bathrooms mostly high ones.
+  json samples = json::array();
+  for (int i = 0; i < 6; ++i) {
+    std::vector<double> kitchen(2), bathroom(2);
+    kitchen[low] = 0.7 + 0.04 * i;
+    kitchen[1 - low] = 1 - kitchen[low];
+    bathroom[1 - low] = 0.7 + 0.04 * i;
+    bathroom[low] = 1 - bathroom[1 - low];
+    samples.push_back({{"label", "kitchen"}, {"features", {{"x_look", kitchen}}}});
+    samples.push_back({{"label", "bathroom"}, {"features", {{"x_look", bathroom}}}});
+  }
+  const json trained = Call("POST", "/v1/classifiers", {{"name", "rooms"}, {"samples", samples}, {"rounds", 5}, {"folds", 3},
+                                                        {"base", {{{"kind", "dtree"}, {"max_depth", 1}}}}}, 202);
+  ASSERT_EQ(WaitJob(trained["job"].get<std::int64_t>()).value("status", ""), "succeeded");
+  const json regions = {{{"id", "A"}, {"polygon", {{-0.5, -0.5}, {0.95, -0.5}, {0.95, 1.5}, {-0.5, 1.5}}}},
+                        {{"id", "B"}, {"polygon", {{1.05, -0.5}, {2.9, -0.5}, {2.9, 1.5}, {1.05, 1.5}}}}};
+  const json result = Call("POST", "/v1/maps/home/rooms:classify", {{"classifier", "rooms"}, {"regions", regions}, {"into", "rooms"}}, 200);
+  ASSERT_EQ(result["regions"].size(), 2u);
+  EXPECT_EQ(result["regions"][0]["label"], "kitchen");
+  EXPECT_EQ(result["regions"][1]["label"], "bathroom");
+  EXPECT_EQ(result["regions"][0]["features"], json({12}));
+  EXPECT_GT(result["regions"][0]["distribution"]["kitchen"].get<double>(), 0.5);
+  auto layer = client_->Get("/v1/maps/home/layers/rooms");
+  ASSERT_TRUE(layer && layer->status == 200);
+  EXPECT_NE(layer->body.find("kitchen"), std::string::npos) << layer->body;
+  EXPECT_NE(layer->body.find("bathroom"), std::string::npos) << layer->body;
+  Call("POST", "/v1/maps/home/rooms:classify", {{"classifier", "nothing"}, {"regions", regions}}, 404);
+  Call("POST", "/v1/maps/home/rooms:classify", {{"classifier", "rooms"}, {"regions", json::array()}}, 400);
+  Call("POST", "/v1/maps/home/rooms:classify", {{"classifier", "rooms"}, {"regions", {{{"polygon", {{0, 0}, {1, 1}}}}}}}, 400);
 }
 
 }  // namespace
