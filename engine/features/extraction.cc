@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include <Eigen/Eigenvalues>
 #include <pcl/console/print.h>
@@ -152,27 +153,25 @@ std::vector<ExtractedFeature> ExtractFeatures(const std::vector<Eigen::Vector3f>
   if (surface->size() < 10) return out;
   const Cloud::Ptr keypoints = Thin(surface, p.keypoint_voxel_m);
   auto surface_tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>();
+  // FPFH and SHOT at the keypoints, over the whole thinned surface; `length` is the descriptor's size.
+  const auto describe = [&](auto estimator, auto signature, auto length, const char* type, auto values) {
+    using Signature = decltype(signature);
+    estimator.setInputCloud(keypoints);
+    estimator.setSearchSurface(surface);
+    estimator.setInputNormals(surface_normals);
+    estimator.setSearchMethod(surface_tree);
+    estimator.setRadiusSearch(p.feature_radius_m);
+    pcl::PointCloud<Signature> descriptors;
+    estimator.compute(descriptors);
+    AddHistograms<Signature, decltype(length)::value>(descriptors, *keypoints, type, values, out);
+  };
   if (Wants(types, "fpfh")) {
-    pcl::FPFHEstimation<pcl::PointXYZ, pcl::Normal, pcl::FPFHSignature33> fpfh;
-    fpfh.setInputCloud(keypoints);
-    fpfh.setSearchSurface(surface);
-    fpfh.setInputNormals(surface_normals);
-    fpfh.setSearchMethod(surface_tree);
-    fpfh.setRadiusSearch(p.feature_radius_m);
-    pcl::PointCloud<pcl::FPFHSignature33> descriptors;
-    fpfh.compute(descriptors);
-    AddHistograms<pcl::FPFHSignature33, 33>(descriptors, *keypoints, "fpfh", &FpfhValues, out);
+    describe(pcl::FPFHEstimation<pcl::PointXYZ, pcl::Normal, pcl::FPFHSignature33>(), pcl::FPFHSignature33(), std::integral_constant<int, 33>(),
+             "fpfh", &FpfhValues);
   }
   if (Wants(types, "shot")) {
-    pcl::SHOTEstimation<pcl::PointXYZ, pcl::Normal, pcl::SHOT352> shot;
-    shot.setInputCloud(keypoints);
-    shot.setSearchSurface(surface);
-    shot.setInputNormals(surface_normals);
-    shot.setSearchMethod(surface_tree);
-    shot.setRadiusSearch(p.feature_radius_m);
-    pcl::PointCloud<pcl::SHOT352> descriptors;
-    shot.compute(descriptors);
-    AddHistograms<pcl::SHOT352, 352>(descriptors, *keypoints, "shot", &ShotValues, out);
+    describe(pcl::SHOTEstimation<pcl::PointXYZ, pcl::Normal, pcl::SHOT352>(), pcl::SHOT352(), std::integral_constant<int, 352>(), "shot",
+             &ShotValues);
   }
   return out;
 }
