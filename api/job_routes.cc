@@ -30,6 +30,11 @@ void RegisterJobRoutes(Router& router, JobService& j) {
       "Online backup of the whole database as a job ({\"label\"?}); the copy goes to the server's backup_dir and "
       "the job's result names the file; 202 with the job",
       [&j](const httplib::Request& req, const PathParams&) { return Accepted(j.SubmitBackup(ParseBackupRequest(BodyObject(req)))); });
+  router.Add("POST", "/v1/jobs/{job}:cancel", Role::kWriter,
+      "Cancel a queued or running job (it fails with the error \"cancelled\"); {\"cancelled\": false} when it had finished",
+      [&j](const httplib::Request&, const PathParams& p) {
+        return JsonResponse(Json{{"cancelled", j.Cancel(PathId(p, "job", "job"))}});
+      });
   router.Add("GET", "/v1/jobs/{job}", Role::kReader, "A job: status, stage, progress, request, result, error",
       [&j](const httplib::Request&, const PathParams& p) { return JsonResponse(ToJson(j.Get(PathId(p, "job", "job")))); });
 }

@@ -1,7 +1,9 @@
 #include "api/routes.h"
 
 #include "api/audit_routes.h"
+#include "api/classifier_routes.h"
 #include "api/event_routes.h"
+#include "api/feature_routes.h"
 #include "api/furniture_routes.h"
 #include "api/grid_routes.h"
 #include "api/job_routes.h"
@@ -18,6 +20,8 @@ void RegisterAllRoutes(Router& router, services::Capabilities& c) {
   RegisterAnalysisRoutes(router, c.analysis);
   RegisterJobRoutes(router, c.jobs);
   RegisterOctomapRoutes(router, c.octomap);
+  RegisterFeatureRoutes(router, c.features);
+  RegisterClassifierRoutes(router, c.classifiers);
   RegisterAuditRoutes(router, c.audit);  // last: it observes the routes above
 }
 

@@ -5,8 +5,11 @@
 #include "schema/clock.h"
 #include "schema/settings.h"
 #include "services/audit/audit_service.h"
+#include "services/classification/classifier_service.h"
 #include "services/events/analysis_queue.h"
 #include "services/events/event_service.h"
+#include "services/features/feature_service.h"
+#include "services/features/keyframe_extraction.h"
 #include "services/furniture/furniture_service.h"
 #include "services/grid/grid_service.h"
 #include "services/jobs/job_service.h"
@@ -27,6 +30,7 @@ struct CapabilityOptions {
   FurnitureSettings furniture;
   JobSettings jobs;
   OctomapSettings octomap;
+  FeatureSettings features;
 };
 
 // Binds the settings of every capability, in a stable order.
@@ -48,6 +52,9 @@ class Capabilities {
   AuditService audit;
   OctomapService octomap;
   OctomapKeyframeFeed octomap_feed;  // in front of `analysis`: stored keyframes also update the map's tree
+  FeatureService features;  // anchored features, codebooks (its job kind registers with `jobs`)
+  KeyframeExtraction keyframe_features;  // in front of `analysis`: features of every keyframe, by setting
+  ClassifierService classifiers;  // E-SAMME models (its training job kind registers with `jobs`)
 };
 
 }  // namespace anchordb::services

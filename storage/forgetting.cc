@@ -158,6 +158,10 @@ void DeleteKeyframes(Connection& c, ForgetReport& r, std::int64_t cutoff, const 
       r.segments_deleted.push_back(s);
     }
     r.bytes_freed_estimate += SumBytes(c, "SELECT length(depth) + length(background) + 96 FROM keyframes WHERE id = ?", id);
+    r.bytes_freed_estimate += SumBytes(c, "SELECT COALESCE(SUM(length(descriptor) + 120), 0) FROM features WHERE keyframe_id = ?", id);
+    Statement n(c, "SELECT COUNT(*) FROM features WHERE keyframe_id = ?");  // they go with the keyframe (cascade)
+    n.Bind(1, id);
+    if (n.Step()) r.features_deleted += n.Int(0);
     Statement d(c, "DELETE FROM keyframes WHERE id = ?");  // a remaining reference fails here (foreign key)
     d.Bind(1, id).Run();
     r.keyframes_deleted.push_back(id);
@@ -184,6 +188,15 @@ void DeleteEmptyModels(Connection& c, ForgetReport& r, const ForgetProgress& pro
     r.bytes_freed_estimate += bytes;
     stage.Step(++done);
   }
+}
+
+// 5. Exact repeats of anchored features (migrations/0012): the newer copy goes.
+void DeduplicateFeatures(Connection& c, ForgetReport& r) {
+  Statement d(c, "DELETE FROM features WHERE id IN (SELECT f.id FROM features f JOIN features g ON g.map_id = f.map_id "
+                 "AND g.type = f.type AND g.id < f.id AND g.x_m = f.x_m AND g.y_m = f.y_m AND g.z_m = f.z_m "
+                 "AND g.descriptor = f.descriptor WHERE f.map_id = ?)");
+  d.Bind(1, r.map_id).Run();
+  r.features_deduplicated = c.Changes();
 }
 
 std::string MainFile(Connection& c) {
@@ -239,7 +252,7 @@ Json ForgetReport::ToJson() const {
       {"events_deleted", IdList(events_deleted)},
       {"keyframes_deleted", IdList(keyframes_deleted)},
       {"segments_deleted", IdList(segments_deleted)},
-      {"features_deduplicated", 0},
+      {"features_deduplicated", features_deduplicated},
       {"counts",
        {{"models_state_dropped", models_state_dropped.size()},
         {"models_deleted", models_deleted.size()},
@@ -247,7 +260,8 @@ Json ForgetReport::ToJson() const {
         {"keyframes_deleted", keyframes_deleted.size()},
         {"segments_deleted", segments_deleted.size()},
         {"keyframes_of_abandoned_open_scenes_deleted", keyframes_of_abandoned_scenes},
-        {"features_deduplicated", 0}}},
+        {"features_deleted", features_deleted},
+        {"features_deduplicated", features_deduplicated}}},
       {"kept",
        {{"keyframes_pinned", keyframes_kept_pinned},
         {"keyframes_relevant", keyframes_kept_relevant},
@@ -257,7 +271,8 @@ Json ForgetReport::ToJson() const {
         {"events_labelled", events_kept_labelled},
         {"events_latest_of_instance", events_kept_latest},
         {"events_of_pinned_instances", events_kept_pinned_instance}}},
-      {"notes", {"features are not stored yet: nothing to de-duplicate"}},
+      {"notes", {"features are de-duplicated on insert (settings features_dedup_*); features_deleted went with the "
+                 "deleted keyframes, features_deduplicated were exact repeats"}},
       {"bytes_freed_estimate", bytes_freed_estimate},
       {"pages",
        {{"page_size", page_size},
@@ -308,6 +323,7 @@ ForgetReport Forget(Connection& c, const std::string& map_id, const ForgetPolicy
     if (policy.event_max_age_s) DeleteEvents(c, r, CutoffNs(now_ns, *policy.event_max_age_s), progress);
     if (policy.keyframe_max_age_s) DeleteKeyframes(c, r, CutoffNs(now_ns, *policy.keyframe_max_age_s), progress);
     if (policy.drop_superseded) DeleteEmptyModels(c, r, progress);
+    DeduplicateFeatures(c, r);
     r.page_count_after = PragmaInt(c, "PRAGMA page_count");
     r.freelist_after = PragmaInt(c, "PRAGMA freelist_count");
     if (progress) progress(dry_run ? "rollback" : "commit", 0.9);

@@ -44,6 +44,9 @@ struct ForgetReport {
   std::vector<std::int64_t> events_deleted;
   std::vector<std::int64_t> keyframes_deleted;
   std::vector<std::int64_t> segments_deleted;
+  // Anchored features that went with the deleted keyframes, and exact repeats removed (same map, type, anchor and
+  // descriptor as an older feature: left only when de-duplication on insert was switched off or loosened later).
+  std::int64_t features_deleted = 0, features_deduplicated = 0;
   // Old keyframes / events that stayed, by the first reason that kept them.
   // keyframes_kept_open_scene: of a scene still observing that had a frame within the keyframe age. Keyframes of a
   // scene left observing for longer (abandoned: its client never came back) go like others; counted here:

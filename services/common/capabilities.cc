@@ -1,6 +1,7 @@
 #include "services/capabilities.h"
 
 #include "services/events/event_settings.h"
+#include "services/features/feature_settings.h"
 #include "services/furniture/furniture_settings.h"
 #include "services/grid/grid_settings.h"
 #include "services/jobs/job_settings.h"
@@ -17,6 +18,7 @@ void BindCapabilitySettings(SettingsBinder& b, CapabilityOptions& o) {
   BindFurnitureSettings(b, o.furniture);
   BindJobSettings(b, o.jobs);
   BindOctomapSettings(b, o.octomap);
+  BindFeatureSettings(b, o.features);
 }
 
 Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, const Clock& clock)
@@ -28,8 +30,12 @@ Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, co
       jobs(store, o.jobs, clock),
       audit(store, clock),
       octomap(store, o.octomap, clock, &grid),
-      octomap_feed(octomap, analysis) {
-  scenes.SetKeyframeListener(&octomap_feed);
+      octomap_feed(octomap, analysis),
+      features(store, jobs, o.features, clock),
+      keyframe_features(features, &octomap_feed, o.features.extract_every_keyframe),
+      classifiers(store, jobs, features, grid, clock) {
+  // Stored keyframes go to feature extraction (by setting), then the OctoMap feed, then the analysis queue.
+  scenes.SetKeyframeListener(&keyframe_features);
 }
 
 }  // namespace anchordb::services

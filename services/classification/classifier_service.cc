@@ -1,0 +1,339 @@
+#include "services/classification/classifier_service.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <set>
+
+#include "engine/classification/cross_validation.h"
+#include "schema/error.h"
+#include "schema/json_io.h"
+#include "storage/feature_repository.h"
+
+namespace anchordb::services {
+namespace {
+
+using Json = nlohmann::json;
+using engine::BaseSetting;
+
+Json SettingJson(const BaseSetting& s) {
+  Json j = {{"kind", engine::BaseKindName(s.kind)}};
+  switch (s.kind) {
+    case engine::BaseKind::kSvm: j["C"] = s.svm_c; j["gamma"] = s.svm_gamma; break;
+    case engine::BaseKind::kDTree: j["max_depth"] = s.tree_max_depth; j["min_samples"] = s.tree_min_samples; break;
+    case engine::BaseKind::kMlp: j["hidden"] = s.mlp_hidden; j["iterations"] = s.mlp_iterations; break;
+    case engine::BaseKind::kKnn: j["k"] = s.knn_k; break;
+  }
+  return j;
+}
+
+BaseSetting SettingOf(const Json& j) {
+  BaseSetting s;
+  s.kind = engine::ParseBaseKind(j.at("kind").get<std::string>());
+  s.svm_c = j.value("C", s.svm_c);
+  s.svm_gamma = j.value("gamma", s.svm_gamma);
+  s.tree_max_depth = j.value("max_depth", s.tree_max_depth);
+  s.tree_min_samples = j.value("min_samples", s.tree_min_samples);
+  s.mlp_hidden = j.value("hidden", s.mlp_hidden);
+  s.mlp_iterations = j.value("iterations", s.mlp_iterations);
+  s.knn_k = j.value("k", s.knn_k);
+  return s;
+}
+
+// The options of a request as stored (and shown with the model), without the samples.
+Json OptionsJson(const TrainClassifierRequest& r) {
+  Json base = Json::array();
+  for (const auto& s : r.base) base.push_back(SettingJson(s));
+  return {{"name", r.name}, {"base", base}, {"rounds", r.rounds}, {"selection", engine::SelectionName(r.selection)},
+          {"sample_factor", r.sample_factor}, {"folds", r.folds}, {"seed", r.seed},
+          {"update", engine::WeightUpdateName(r.update)}, {"unknown", r.unknown}, {"unknown_min_share", r.unknown_min_share}};
+}
+
+std::string EncodeRequest(const TrainClassifierRequest& r) {
+  Json j = OptionsJson(r);
+  Json samples = Json::array();
+  for (const auto& s : r.samples) samples.push_back({{"label", s.label}, {"features", s.features}});
+  j["samples"] = samples;
+  return j.dump();
+}
+
+TrainClassifierRequest DecodeRequest(const std::string& text) {
+  const Json j = Json::parse(text);
+  TrainClassifierRequest r;
+  r.name = j.at("name").get<std::string>();
+  for (const Json& s : j.at("base")) r.base.push_back(SettingOf(s));
+  r.rounds = j.at("rounds").get<int>();
+  r.selection = engine::ParseSelection(j.at("selection").get<std::string>());
+  r.sample_factor = j.at("sample_factor").get<double>();
+  r.folds = j.at("folds").get<int>();
+  r.seed = j.at("seed").get<std::uint64_t>();
+  r.update = engine::ParseWeightUpdate(j.at("update").get<std::string>());
+  r.unknown = j.at("unknown").get<bool>();
+  r.unknown_min_share = j.at("unknown_min_share").get<double>();
+  for (const Json& s : j.at("samples")) {
+    r.samples.push_back({s.at("label").get<std::string>(), s.at("features").get<std::map<std::string, std::vector<float>>>()});
+  }
+  return r;
+}
+
+// The training set of a request; throws Error naming the field for everything TrainEsamme would refuse and for the
+// checks of the request itself.
+engine::TrainingSet TrainingSetOf(const TrainClassifierRequest& r) {
+  json::CheckId(r.name, "name");
+  if (r.samples.empty()) throw Error(ErrorCode::kInvalidArgument, "no samples", "samples");
+  engine::TrainingSet data;
+  for (const auto& [type, _] : r.samples.front().features) data.feature_types.push_back(type);
+  if (data.feature_types.empty()) throw Error(ErrorCode::kInvalidArgument, "samples need at least one feature type", "samples[0].features");
+  std::map<std::string, int> class_index;
+  std::vector<int> dims(data.feature_types.size(), 0);
+  for (std::size_t i = 0; i < r.samples.size(); ++i) {
+    const auto& s = r.samples[i];
+    const std::string field = "samples[" + std::to_string(i) + "]";
+    if (s.label.empty() || s.label.size() > 256) throw Error(ErrorCode::kInvalidArgument, "a label of 1 to 256 characters", field + ".label");
+    if (s.features.size() != data.feature_types.size()) {
+      throw Error(ErrorCode::kInvalidArgument, "every sample has the same feature types as the first", field + ".features");
+    }
+    for (std::size_t t = 0; t < data.feature_types.size(); ++t) {
+      const auto it = s.features.find(data.feature_types[t]);
+      if (it == s.features.end()) {
+        throw Error(ErrorCode::kInvalidArgument, "missing feature type '" + data.feature_types[t] + "'", field + ".features");
+      }
+      if (i == 0) dims[t] = static_cast<int>(it->second.size());
+      if (it->second.empty() || static_cast<int>(it->second.size()) != dims[t]) {
+        throw Error(ErrorCode::kInvalidArgument, "descriptors of '" + data.feature_types[t] + "' need " + std::to_string(dims[t]) +
+                                                     " values (as the first sample)", field + ".features." + data.feature_types[t]);
+      }
+    }
+    if (!class_index.count(s.label)) {
+      class_index[s.label] = static_cast<int>(data.class_names.size());
+      data.class_names.push_back(s.label);
+    }
+    data.labels.push_back(class_index[s.label]);
+  }
+  if (r.unknown && !class_index.count(engine::kUnknownClass)) data.class_names.push_back(engine::kUnknownClass);
+  for (std::size_t t = 0; t < data.feature_types.size(); ++t) {
+    engine::FeatureMatrix m(static_cast<Eigen::Index>(r.samples.size()), dims[t]);
+    for (std::size_t i = 0; i < r.samples.size(); ++i) {
+      const auto& v = r.samples[i].features.at(data.feature_types[t]);
+      for (int d = 0; d < dims[t]; ++d) m(static_cast<Eigen::Index>(i), d) = v[static_cast<std::size_t>(d)];
+    }
+    data.features.push_back(std::move(m));
+  }
+  std::vector<int> counts(data.class_names.size(), 0);
+  for (int l : data.labels) ++counts[static_cast<std::size_t>(l)];
+  for (std::size_t c = 0; c < counts.size(); ++c) {
+    if (counts[c] == 1) {
+      throw Error(ErrorCode::kUnprocessable, "class '" + data.class_names[c] + "' has one sample; every class needs two or more",
+                  "samples");
+    }
+  }
+  if (r.folds != 0 && (r.folds < 2 || static_cast<std::size_t>(r.folds) > r.samples.size())) {
+    throw Error(ErrorCode::kUnprocessable, "folds must be 0 or in [2, number of samples]", "folds");
+  }
+  return data;
+}
+
+engine::EsammeOptions OptionsOf(const TrainClassifierRequest& r) {
+  engine::EsammeOptions o;
+  o.base = r.base.empty() ? engine::DefaultBaseSet() : r.base;
+  o.rounds = r.rounds;
+  o.selection = r.selection;
+  o.sample_factor = r.sample_factor;
+  o.update = r.update;
+  o.seed = r.seed;
+  o.unknown = r.unknown;
+  o.unknown_min_share = r.unknown_min_share;
+  return o;
+}
+
+Json Shares(const std::vector<std::pair<std::string, double>>& shares) {
+  Json j = Json::object();
+  for (const auto& [k, v] : shares) j[k] = v;
+  return j;
+}
+
+Json ReportJson(const engine::TrainingSet& data, const engine::EsammeModel& model,
+                const std::optional<engine::CrossValidationReport>& cv, double train_seconds) {
+  Json rounds = Json::array();
+  for (const auto& r : model.rounds) {
+    rounds.push_back({{"setting", model.settings[static_cast<std::size_t>(r.setting)].Name()},
+                      {"feature_type", model.feature_types[static_cast<std::size_t>(r.feature_type)]},
+                      {"error", r.error}, {"alpha", r.alpha}});
+  }
+  Json j = {{"classes", model.class_names}, {"feature_types", model.feature_types}, {"samples", data.labels.size()},
+            {"rounds", rounds}, {"train_seconds", train_seconds}};
+  if (cv) {
+    j["cross_validation"] = {{"folds", cv->folds}, {"test_error", cv->test_error},
+                             {"train_error_per_round", cv->train_error_per_round},
+                             {"test_error_per_round", cv->test_error_per_round},
+                             {"test_error_worst_fold_per_round", cv->test_error_worst_fold_per_round},
+                             {"confusion", cv->confusion}, {"rounds_per_fold", cv->rounds_per_fold},
+                             {"kind_share", Shares(cv->kind_share)}, {"setting_share", Shares(cv->setting_share)},
+                             {"feature_share", Shares(cv->feature_share)}};
+  }
+  return j;
+}
+
+ClassifierView ViewOf(const storage::ClassifierRecord& r) {
+  ClassifierView v;
+  v.name = r.name;
+  v.created_ns = r.created_ns;
+  v.report_json = r.report_json;
+  v.request_json = r.request_json;
+  const Json report = Json::parse(r.report_json, nullptr, false);
+  if (report.is_object()) {
+    v.classes = report.value("classes", std::vector<std::string>{});
+    v.feature_types = report.value("feature_types", std::vector<std::string>{});
+    v.rounds = static_cast<int>(report.value("rounds", Json::array()).size());
+  }
+  return v;
+}
+
+}  // namespace
+
+ClassifierService::ClassifierService(storage::Store& store, JobService& jobs, FeatureService& features, GridService& grid,
+                                     const Clock& clock)
+    : store_(store), jobs_(jobs), features_(features), grid_(grid), clock_(clock) {
+  JobKind kind;
+  kind.name = "classifier_train";
+  kind.first_stage = "cross-validating";
+  kind.check = [](const JobSubmission& s) {  // before anything is queued
+    const TrainClassifierRequest r = DecodeRequest(s.request);
+    engine::ValidateTraining(TrainingSetOf(r), OptionsOf(r));
+  };
+  kind.run = [&store = store_, &clock = clock_](JobContext& job) -> std::optional<std::string> {
+    const TrainClassifierRequest r = DecodeRequest(job.request());
+    const engine::TrainingSet data = TrainingSetOf(r);
+    const engine::EsammeOptions options = OptionsOf(r);
+    std::optional<engine::CrossValidationReport> cv;
+    const auto start = std::chrono::steady_clock::now();
+    if (r.folds >= 2) {
+      cv = engine::CrossValidate(data, options, engine::StratifiedFolds(data.labels, r.folds, r.seed), [&](int done, int total) {
+        job.Progress("cross-validating", 0.8 * done / total);  // throws once cancelled
+        return true;
+      });
+    }
+    job.Progress("training", 0.8);
+    const engine::EsammeModel model = engine::TrainEsamme(data, options, [&](int done, int total) {
+      job.Progress("training", 0.8 + 0.2 * done / total);
+      return true;
+    });
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const Json report = ReportJson(data, model, cv, seconds);
+    store.Write([&](storage::Connection& c) {
+      storage::UpsertClassifier(c, {r.name, clock.NowNs(), engine::EncodeEsamme(model), OptionsJson(r).dump(), report.dump()});
+    });
+    Json result = {{"name", r.name}, {"rounds", model.rounds.size()}, {"train_seconds", seconds}};
+    if (cv) result["test_error"] = cv->test_error;
+    return result.dump();
+  };
+  jobs_.Register(std::move(kind));
+}
+
+JobTicket ClassifierService::SubmitTraining(const TrainClassifierRequest& request) {
+  return jobs_.Submit("classifier_train", std::nullopt, EncodeRequest(request));
+}
+
+std::vector<ClassifierView> ClassifierService::List() {
+  std::vector<ClassifierView> out;
+  for (const auto& r : store_.Read([](storage::Connection& c) { return storage::ListClassifiers(c); })) out.push_back(ViewOf(r));
+  return out;
+}
+
+ClassifierView ClassifierService::Get(const std::string& name) {
+  const auto r = store_.Read([&](storage::Connection& c) { return storage::GetClassifier(c, name, false); });
+  if (!r) throw Error(ErrorCode::kNotFound, "classifier '" + name.substr(0, 64) + "' does not exist", "name");
+  ClassifierView v = ViewOf(*r);
+  v.feature_dims = Model(name)->feature_dims;
+  return v;
+}
+
+std::shared_ptr<const engine::EsammeModel> ClassifierService::Model(const std::string& name) {
+  const auto r = store_.Read([&](storage::Connection& c) { return storage::GetClassifier(c, name, true); });
+  if (!r) throw Error(ErrorCode::kNotFound, "classifier '" + name.substr(0, 64) + "' does not exist", "name");
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = cache_.find(name);
+  if (it != cache_.end() && it->second.first == r->created_ns) return it->second.second;
+  auto model = std::make_shared<const engine::EsammeModel>(engine::DecodeEsamme(r->model));
+  cache_[name] = {r->created_ns, model};
+  return model;
+}
+
+std::vector<ClassPrediction> ClassifierService::Predict(const std::string& name, const PredictRequest& request) {
+  const auto model = Model(name);
+  if (request.samples.empty()) throw Error(ErrorCode::kInvalidArgument, "no samples", "samples");
+  std::vector<engine::FeatureMatrix> features;
+  for (std::size_t t = 0; t < model->feature_types.size(); ++t) {
+    const std::string& type = model->feature_types[t];
+    engine::FeatureMatrix m(static_cast<Eigen::Index>(request.samples.size()), model->feature_dims[t]);
+    for (std::size_t i = 0; i < request.samples.size(); ++i) {
+      const std::string field = "samples[" + std::to_string(i) + "].features." + type;
+      const auto it = request.samples[i].find(type);
+      if (it == request.samples[i].end()) throw Error(ErrorCode::kInvalidArgument, "missing feature type '" + type + "'", field);
+      if (static_cast<int>(it->second.size()) != model->feature_dims[t]) {
+        throw Error(ErrorCode::kInvalidArgument, "needs " + std::to_string(model->feature_dims[t]) + " values", field);
+      }
+      for (int d = 0; d < model->feature_dims[t]; ++d) m(static_cast<Eigen::Index>(i), d) = it->second[static_cast<std::size_t>(d)];
+    }
+    features.push_back(std::move(m));
+  }
+  std::vector<ClassPrediction> out;
+  for (const auto& p : engine::PredictEsamme(*model, features, request.rounds)) {
+    ClassPrediction c;
+    c.label = model->class_names[static_cast<std::size_t>(p.label)];
+    for (std::size_t k = 0; k < p.distribution.size(); ++k) c.distribution.emplace_back(model->class_names[k], p.distribution[k]);
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+std::vector<RoomClassification> ClassifierService::ClassifyRooms(const ClassifyRoomsRequest& request) {
+  if (request.regions.empty()) throw Error(ErrorCode::kInvalidArgument, "no regions", "regions");
+  const auto model = Model(request.classifier);
+  PredictRequest predict;
+  std::vector<RoomClassification> out;
+  for (std::size_t r = 0; r < request.regions.size(); ++r) {
+    RoomClassification room;
+    room.id = request.regions[r].id;
+    std::map<std::string, std::vector<float>> sample;
+    for (std::size_t t = 0; t < model->feature_types.size(); ++t) {
+      const std::string& type = model->feature_types[t];
+      BowQuery q;
+      q.type = type;
+      q.polygon_m = request.regions[r].polygon_m;
+      BowResult bow;
+      try {
+        bow = features_.BagOfWords(request.map, q);
+      } catch (const Error& e) {
+        if (e.code() != ErrorCode::kNotFound || e.field() != "type") throw;
+        throw Error(ErrorCode::kUnprocessable, "map '" + request.map + "' has no codebook of '" + type + "'", "classifier");
+      }
+      if (bow.words != model->feature_dims[t]) {
+        throw Error(ErrorCode::kUnprocessable, "the codebook of '" + type + "' has " + std::to_string(bow.words) +
+                                                   " words, the classifier expects " + std::to_string(model->feature_dims[t]),
+                    "classifier");
+      }
+      sample[type] = std::vector<float>(bow.histogram.begin(), bow.histogram.end());
+      room.features.push_back(bow.features);
+    }
+    predict.samples.push_back(std::move(sample));
+    out.push_back(std::move(room));
+  }
+  const auto predictions = Predict(request.classifier, predict);
+  for (std::size_t r = 0; r < out.size(); ++r) {
+    out[r].label = predictions[r].label;
+    out[r].distribution = predictions[r].distribution;
+    if (!request.into.empty()) {
+      PaintLabelRequest paint;
+      paint.map = request.map;
+      paint.layer = request.into;
+      paint.label = out[r].label;
+      paint.polygons_M = {request.regions[r].polygon_m};
+      grid_.PaintLabel(paint);
+    }
+  }
+  return out;
+}
+
+}  // namespace anchordb::services

@@ -1,0 +1,53 @@
+#pragma once
+// Trained E-SAMME classifiers (thesis 4.2; SPEC §4.6): training as a job ("classifier_train": cross-validation,
+// then the final model on every sample; progress per fold and round; cancellable), stored in the classifiers table
+// (the base models serialised by OpenCV) with their report, listed, and used for predictions. Models reload after a
+// restart and predict exactly as before.
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "schema/clock.h"
+#include "services/classification/classifier_types.h"
+#include "services/features/feature_service.h"
+#include "services/grid/grid_service.h"
+#include "services/jobs/job_service.h"
+#include "storage/store.h"
+
+namespace anchordb::services {
+
+class ClassifierService {
+ public:
+  // Registers the "classifier_train" job kind with `jobs`. `features` and `grid` serve ClassifyRooms.
+  ClassifierService(storage::Store& store, JobService& jobs, FeatureService& features, GridService& grid,
+                    const Clock& clock = SystemClock::Instance());
+
+  // Validates everything before queueing: a bad name, no samples, an empty class name, samples without every feature
+  // type or with descriptors of differing length, NaN, fewer than two classes, a class with one sample, folds outside
+  // [2, samples] (or 0), absurd rounds or settings: Error naming the field; nothing is queued or stored.
+  JobTicket SubmitTraining(const TrainClassifierRequest& request);
+  std::vector<ClassifierView> List();
+  // Unknown name: kNotFound.
+  ClassifierView Get(const std::string& name);
+  // Unknown name: kNotFound; a sample missing a type or with a descriptor of the wrong length: kInvalidArgument.
+  std::vector<ClassPrediction> Predict(const std::string& name, const PredictRequest& request);
+  // The category distribution of each region; with `into`, paints each region's most probable category into that
+  // label layer. A classifier feature type without a codebook in the map, or whose codebook's word count differs
+  // from the classifier's descriptor length: kUnprocessable naming "classifier"; no regions: kInvalidArgument.
+  std::vector<RoomClassification> ClassifyRooms(const ClassifyRoomsRequest& request);
+
+ private:
+  std::shared_ptr<const engine::EsammeModel> Model(const std::string& name);
+
+  storage::Store& store_;
+  JobService& jobs_;
+  FeatureService& features_;
+  GridService& grid_;
+  const Clock& clock_;
+  std::mutex mutex_;
+  std::map<std::string, std::pair<std::int64_t, std::shared_ptr<const engine::EsammeModel>>> cache_;  // by name
+};
+
+}  // namespace anchordb::services

@@ -1,0 +1,276 @@
+#include "engine/classification/esamme.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "engine/classification/cross_validation.h"
+#include "schema/error.h"
+
+namespace anchordb::engine {
+namespace {
+
+// K Gaussian classes in `dims` dimensions, class c centred at c * spacing on every axis, unit standard deviation;
+// with `noise_dims` > 0 a second feature type "noise" of pure N(0, 1) values independent of the class.
+TrainingSet Gaussians(int k, int per_class, int dims, double spacing, std::uint64_t seed, int noise_dims = 0) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<float> normal(0.0f, 1.0f);
+  TrainingSet data;
+  for (int c = 0; c < k; ++c) data.class_names.push_back("c" + std::to_string(c));
+  data.feature_types.push_back("signal");
+  FeatureMatrix signal(k * per_class, dims);
+  FeatureMatrix noise(k * per_class, std::max(noise_dims, 1));
+  for (int c = 0; c < k; ++c) {
+    for (int i = 0; i < per_class; ++i) {
+      const int row = c * per_class + i;
+      for (int d = 0; d < dims; ++d) signal(row, d) = static_cast<float>(c * spacing) + normal(rng);
+      for (int d = 0; d < noise.cols(); ++d) noise(row, d) = normal(rng);
+      data.labels.push_back(c);
+    }
+  }
+  data.features.push_back(signal);
+  if (noise_dims > 0) {
+    data.feature_types.push_back("noise");
+    data.features.push_back(noise);
+  }
+  return data;
+}
+
+BaseSetting Tree(int depth) {
+  BaseSetting s;
+  s.kind = BaseKind::kDTree;
+  s.tree_max_depth = depth;
+  return s;
+}
+
+BaseSetting Knn(int k) {
+  BaseSetting s;
+  s.kind = BaseKind::kKnn;
+  s.knn_k = k;
+  return s;
+}
+
+double TrainError(const EsammeModel& model, const TrainingSet& data) {
+  const auto pred = PredictEsamme(model, data.features);
+  int wrong = 0;
+  for (std::size_t i = 0; i < pred.size(); ++i) wrong += pred[i].label != data.labels[i];
+  return static_cast<double>(wrong) / static_cast<double>(pred.size());
+}
+
+TEST(EsammeTest, AlphaIsSammesAndZeroErrorIsClamped) {
+  EXPECT_NEAR(SammeAlpha(0.25, 2, WeightUpdate::kThesis), std::log(3.0), 1e-12);
+  EXPECT_NEAR(SammeAlpha(0.5, 4, WeightUpdate::kThesis), std::log(3.0), 1e-12);  // e = 0.5 still beats 3/4
+  EXPECT_NEAR(SammeAlpha(0.0, 3, WeightUpdate::kThesis), std::log((1 - 1e-10) / 1e-10) + std::log(2.0), 1e-9);
+  EXPECT_DOUBLE_EQ(SammeAlpha(0.0, 3, WeightUpdate::kSklearn), 1.0);
+}
+
+// A known property of SAMME: after scikit-learn's update the learner just chosen has weighted error (K-1)/K
+// (chance). Eq. 4.10 as printed (x exp(-alpha) for the correct samples too) over-corrects: with K = 2 the learner's
+// error becomes 1 - e, so its inverse is the best learner of the next round.
+TEST(EsammeTest, ReweightingPutsTheLastLearnerAtChance) {
+  for (int k : {2, 3, 6}) {
+    std::vector<double> w{0.1, 0.2, 0.3, 0.15, 0.25};
+    const std::vector<bool> wrong{true, false, false, true, false};
+    const double e = 0.1 + 0.15;
+    ReweightSamples(w, wrong, SammeAlpha(e, k, WeightUpdate::kSklearn), WeightUpdate::kSklearn);
+    EXPECT_NEAR(w[0] + w[3], (k - 1.0) / k, 1e-12) << "K=" << k;
+    EXPECT_NEAR(w[0] + w[1] + w[2] + w[3] + w[4], 1.0, 1e-12);
+  }
+  std::vector<double> w{0.1, 0.2, 0.3, 0.15, 0.25};
+  ReweightSamples(w, {true, false, false, true, false}, SammeAlpha(0.25, 2, WeightUpdate::kThesis), WeightUpdate::kThesis);
+  EXPECT_NEAR(w[0] + w[3], 0.75, 1e-12);
+}
+
+TEST(EsammeTest, SeparableClassesAreLearnedWithoutError) {
+  const TrainingSet data = Gaussians(3, 40, 2, 8.0, 11);
+  EsammeOptions options;
+  options.base = {Tree(1)};
+  options.rounds = 30;
+  const EsammeModel model = TrainEsamme(data, options);
+  EXPECT_EQ(TrainError(model, data), 0.0);
+  const auto report = CrossValidate(data, options, StratifiedFolds(data.labels, 5, 3));
+  EXPECT_LE(report.test_error, 0.02);
+  ASSERT_EQ(report.confusion.size(), 3u);
+  int total = 0;
+  for (const auto& row : report.confusion) for (int v : row) total += v;
+  EXPECT_EQ(total, 120);  // every sample tested once
+}
+
+// Two unit Gaussians 2 apart in 1-D: the Bayes error is Phi(-1) = 0.159; boosted stumps must come near it, not 0.
+TEST(EsammeTest, OverlappingClassesApproachTheBayesError) {
+  const TrainingSet data = Gaussians(2, 300, 1, 2.0, 5);
+  EsammeOptions options;
+  options.base = {Tree(1)};
+  options.rounds = 20;
+  options.selection = Selection::kWeights;
+  options.update = WeightUpdate::kSklearn;  // SAMME as Zhu et al. (2009) wrote it
+  const auto report = CrossValidate(data, options, StratifiedFolds(data.labels, 5, 9));
+  EXPECT_GT(report.test_error, 0.12);
+  EXPECT_LT(report.test_error, 0.21);
+  EXPECT_LE(report.train_error_per_round.back(), report.test_error_per_round.back() + 0.02);
+}
+
+TEST(EsammeTest, PureNoiseFeatureTypeIsRarelyChosen) {
+  const TrainingSet data = Gaussians(3, 40, 3, 2.5, 21, 3);
+  EsammeOptions options;
+  options.base = {Tree(1), Tree(3), Knn(5)};
+  options.rounds = 25;
+  const auto report = CrossValidate(data, options, StratifiedFolds(data.labels, 5, 4));
+  double noise_share = 0.0;
+  for (const auto& [type, share] : report.feature_share) if (type == "noise") noise_share = share;
+  EXPECT_LT(noise_share, 0.1);
+  EXPECT_LT(report.test_error, 0.1);  // chance is 0.67
+}
+
+TEST(EsammeTest, ZeroErrorKeepsTheLearnerAndStops) {
+  const TrainingSet data = Gaussians(3, 30, 2, 10.0, 2);
+  EsammeOptions options;
+  options.base = {Tree(4)};
+  options.rounds = 10;
+  options.selection = Selection::kWeights;
+  const EsammeModel model = TrainEsamme(data, options);
+  ASSERT_EQ(model.rounds.size(), 1u);
+  EXPECT_EQ(model.rounds[0].error, 0.0);
+  EXPECT_NEAR(model.rounds[0].alpha, SammeAlpha(0.0, 3, WeightUpdate::kThesis), 1e-9);
+}
+
+TEST(EsammeTest, NoLearnerBetterThanChanceIsAnError) {
+  TrainingSet data = Gaussians(2, 20, 1, 0.0, 3);
+  for (int i = 0; i < data.features[0].rows(); ++i) data.features[0](i, 0) = 1.0f;  // nothing to learn from
+  EsammeOptions options;
+  options.base = {Tree(1)};
+  try {
+    TrainEsamme(data, options);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kUnprocessable);
+  }
+}
+
+TEST(EsammeTest, EveryKindRoundTripsThroughTheBlob) {
+  const TrainingSet data = Gaussians(3, 30, 4, 2.0, 8, 2);
+  EsammeOptions options;
+  options.base = SvmGrid({1.0}, {0.1});
+  options.base.push_back(Tree(2));
+  BaseSetting mlp;
+  mlp.kind = BaseKind::kMlp;
+  mlp.mlp_hidden = {8};
+  mlp.mlp_iterations = 50;
+  options.base.push_back(mlp);
+  options.base.push_back(Knn(3));
+  options.rounds = 6;
+  const EsammeModel model = TrainEsamme(data, options);
+  const std::string blob = EncodeEsamme(model);
+  const EsammeModel back = DecodeEsamme(blob);
+  ASSERT_EQ(back.rounds.size(), model.rounds.size());
+  EXPECT_EQ(back.class_names, model.class_names);
+  const TrainingSet probe = Gaussians(3, 10, 4, 2.0, 99, 2);
+  const auto a = PredictEsamme(model, probe.features);
+  const auto b = PredictEsamme(back, probe.features);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].label, b[i].label);
+    EXPECT_EQ(a[i].distribution, b[i].distribution);
+  }
+  // Every round's own base classifier predicts the same after the round trip, whatever its kind.
+  EXPECT_EQ(PredictRounds(model, probe.features), PredictRounds(back, probe.features));
+  EXPECT_EQ(EncodeEsamme(back), blob);
+  std::string damaged = blob;
+  damaged.resize(blob.size() / 2);
+  EXPECT_THROW(DecodeEsamme(damaged), Error);
+  EXPECT_THROW(DecodeEsamme("not a model"), Error);
+}
+
+TEST(EsammeTest, SameSeedSameModel) {
+  const TrainingSet data = Gaussians(3, 25, 2, 1.5, 4);
+  EsammeOptions options;
+  options.base = {Tree(1), Tree(2)};
+  options.selection = Selection::kRoulette;
+  options.rounds = 8;
+  EXPECT_EQ(EncodeEsamme(TrainEsamme(data, options)), EncodeEsamme(TrainEsamme(data, options)));
+}
+
+TEST(EsammeTest, UnknownClassFromNegativesAndLowShare) {
+  TrainingSet data = Gaussians(3, 30, 2, 6.0, 6);
+  data.class_names[2] = kUnknownClass;  // the third cluster are negative examples
+  EsammeOptions options;
+  options.base = {Tree(1), Tree(2)};
+  options.rounds = 15;
+  options.unknown = true;
+  options.unknown_min_share = 0.999;  // nothing short of a unanimous vote is accepted
+  const EsammeModel model = TrainEsamme(data, options);
+  FeatureMatrix between(1, 2);
+  between << 3.0f, 9.0f;  // between class 0/1 on one axis, near the unknown cluster on the other
+  const auto pred = PredictEsamme(model, {between});
+  EXPECT_EQ(model.class_names[static_cast<std::size_t>(pred[0].label)], kUnknownClass);
+  EsammeOptions no_unknown_class = options;
+  data.class_names[2] = "c2";
+  EXPECT_THROW(TrainEsamme(data, no_unknown_class), Error);
+}
+
+TEST(EsammeTest, BadInputIsRefused) {
+  const TrainingSet good = Gaussians(2, 10, 2, 3.0, 1);
+  EsammeOptions options;
+  options.base = {Tree(1)};
+  auto code_of = [&](TrainingSet data, EsammeOptions o) {
+    try {
+      TrainEsamme(data, o);
+    } catch (const Error& e) {
+      return e.code();
+    }
+    return ErrorCode::kInternal;
+  };
+  TrainingSet nan = good;
+  nan.features[0](3, 1) = std::nanf("");
+  EXPECT_EQ(code_of(nan, options), ErrorCode::kInvalidArgument);
+  TrainingSet one_class = good;
+  for (int& l : one_class.labels) l = 0;
+  EXPECT_EQ(code_of(one_class, options), ErrorCode::kUnprocessable);
+  TrainingSet ragged = good;
+  ragged.features[0].conservativeResize(5, 2);
+  EXPECT_EQ(code_of(ragged, options), ErrorCode::kInvalidArgument);
+  EsammeOptions absurd = options;
+  absurd.rounds = 100000;
+  EXPECT_EQ(code_of(good, absurd), ErrorCode::kInvalidArgument);
+  absurd = options;
+  absurd.sample_factor = 0.0;
+  EXPECT_EQ(code_of(good, absurd), ErrorCode::kInvalidArgument);
+  absurd = options;
+  absurd.base[0].tree_max_depth = 0;
+  EXPECT_EQ(code_of(good, absurd), ErrorCode::kInvalidArgument);
+  EXPECT_THROW(StratifiedFolds(good.labels, 21, 1), Error);  // folds > samples
+  FeatureMatrix wrong_length(1, 3);
+  wrong_length.setZero();
+  EXPECT_THROW(PredictEsamme(TrainEsamme(good, options), {wrong_length}), Error);
+}
+
+TEST(EsammeTest, TrainingCanBeCancelled) {
+  const TrainingSet data = Gaussians(2, 50, 1, 1.0, 7);
+  EsammeOptions options;
+  options.base = {Tree(1)};
+  options.rounds = 20;
+  int calls = 0;
+  try {
+    TrainEsamme(data, options, [&](int done, int) { ++calls; return done < 3; });
+    FAIL() << "expected cancellation";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kConflict);
+  }
+  EXPECT_EQ(calls, 3);
+}
+
+TEST(EsammeTest, StratifiedFoldsBalanceClasses) {
+  std::vector<int> labels;
+  for (int i = 0; i < 50; ++i) labels.push_back(i < 30 ? 0 : 1);
+  const auto folds = StratifiedFolds(labels, 5, 17);
+  for (int f = 0; f < 5; ++f) {
+    int zeros = 0, ones = 0;
+    for (std::size_t i = 0; i < labels.size(); ++i) if (folds[i] == f) (labels[i] ? ones : zeros)++;
+    EXPECT_EQ(zeros, 6);
+    EXPECT_EQ(ones, 4);
+  }
+  EXPECT_EQ(folds, StratifiedFolds(labels, 5, 17));
+}
+
+}  // namespace
+}  // namespace anchordb::engine

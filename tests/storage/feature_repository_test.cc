@@ -1,0 +1,133 @@
+// Anchored features (migration 0012) on a real SQLite file: R*Tree box and radius queries, time filters, the anchor
+// index kept in step when a keyframe or a map cascades its features away, codebooks and classifiers across a reopen.
+#include "storage/feature_repository.h"
+
+#include <gtest/gtest.h>
+
+#include "storage/repositories.h"
+#include "storage/scene_repository.h"
+#include "storage/store.h"
+#include "tests/support/temp_dir.h"
+
+namespace anchordb::storage {
+namespace {
+
+class FeatureRepositoryTest : public ::testing::Test {
+ protected:
+  void SetUp() override { Open(); }
+  void Open() {
+    store_.reset();
+    StoreOptions o;
+    o.path = dir_.File("db.sqlite");
+    o.reader_connections = 1;
+    store_ = std::make_unique<Store>(o);
+  }
+  static FeatureRecord Feature(const std::string& type, Eigen::Vector3d at, std::int64_t stamp,
+                               std::optional<std::int64_t> keyframe = std::nullopt) {
+    FeatureRecord f;
+    f.map = "home";
+    f.type = type;
+    f.descriptor = {1.0f, 2.0f, static_cast<float>(stamp)};
+    f.anchor_m = at;
+    f.stamp_ns = stamp;
+    f.keyframe = keyframe;
+    return f;
+  }
+  std::int64_t AnchorRows() {
+    return store_->Read([](Connection& c) {
+      Statement s(c, "SELECT COUNT(*) FROM feature_anchors");
+      s.Step();
+      return s.Int(0);
+    });
+  }
+  std::int64_t Keyframe() {
+    return store_->Write([](Connection& c) {
+      SceneRecord scene;
+      scene.map_id = "home";
+      scene.intrinsics_json = scene.pose_json = scene.params_json = "{}";
+      KeyframeRecord k;
+      k.map_id = "home";
+      k.scene_id = InsertScene(c, scene);
+      k.kind = "begin";
+      k.depth = k.background = "x";
+      return InsertKeyframe(c, k);
+    });
+  }
+
+  testing::TempDir dir_;
+  std::unique_ptr<Store> store_;
+};
+
+TEST_F(FeatureRepositoryTest, SpatialAndTimeQueriesAndCascades) {
+  store_->Write([](Connection& c) { InsertMap(c, {"home", "home", 1}); });
+  const std::int64_t kf = Keyframe();
+  store_->Write([&](Connection& c) {
+    InsertFeature(c, Feature("fpfh", {0, 0, 0}, 10));
+    InsertFeature(c, Feature("fpfh", {1, 0, 0}, 20, kf));
+    InsertFeature(c, Feature("fpfh", {3, 3, 1}, 30, kf));
+    InsertFeature(c, Feature("shot", {0.1, 0, 0}, 40));
+  });
+  EXPECT_EQ(AnchorRows(), 4);
+  auto list = [&](const FeatureFilter& q) {
+    return store_->Read([&](Connection& c) {
+      std::vector<float> stamps;
+      for (const auto& f : ListFeatures(c, "home", q)) stamps.push_back(f.descriptor.at(2));
+      return stamps;
+    });
+  };
+  FeatureFilter radius;
+  radius.near_m = Eigen::Vector3d(0, 0, 0);
+  radius.radius_m = 1.01;
+  EXPECT_EQ(list(radius), (std::vector<float>{10, 20, 40}));
+  radius.type = "fpfh";
+  radius.radius_m = 0.99;
+  EXPECT_EQ(list(radius), (std::vector<float>{10}));
+  FeatureFilter box;
+  box.box_min_m = Eigen::Vector3d(0.5, -1, -1);
+  box.box_max_m = Eigen::Vector3d(4, 4, 2);
+  EXPECT_EQ(list(box), (std::vector<float>{20, 30}));
+  FeatureFilter time;
+  time.since_ns = 20;
+  time.until_ns = 40;
+  EXPECT_EQ(list(time), (std::vector<float>{20, 30}));
+  FeatureFilter of_keyframe;
+  of_keyframe.keyframe = kf;
+  EXPECT_EQ(list(of_keyframe).size(), 2u);
+  EXPECT_EQ(store_->Read([](Connection& c) { return StoredFeatureDims(c, "home", "shot"); }), 3);
+  EXPECT_EQ(store_->Read([](Connection& c) { return StoredFeatureDims(c, "home", "spd"); }), std::nullopt);
+
+  // Forgetting a keyframe drops its features, and the R*Tree rows go with them.
+  store_->Write([&](Connection& c) { Statement(c, "DELETE FROM keyframes WHERE id = ?").Bind(1, kf).Run(); });
+  EXPECT_EQ(list(FeatureFilter{}), (std::vector<float>{10, 40}));
+  EXPECT_EQ(AnchorRows(), 2);
+  store_->Write([](Connection& c) { DeleteMap(c, "home"); });
+  EXPECT_EQ(AnchorRows(), 0);
+}
+
+TEST_F(FeatureRepositoryTest, CodebooksAndClassifiersSurviveAReopen) {
+  store_->Write([](Connection& c) {
+    InsertMap(c, {"home", "home", 1});
+    CodebookRecord b;
+    b.map = "home";
+    b.type = "fpfh";
+    b.words = 2;
+    b.dims = 3;
+    b.seed = 7;
+    b.centres = {1, 2, 3, 4, 5, 6};
+    b.features = 10;
+    UpsertCodebook(c, b);
+    UpsertClassifier(c, {"rooms", 5, std::string("ESAM\0\x01", 6), "{}", R"({"test_error":0.2})"});
+  });
+  Open();
+  const auto b = store_->Read([](Connection& c) { return GetCodebook(c, "home", "fpfh"); });
+  ASSERT_TRUE(b.has_value());
+  EXPECT_EQ(b->centres, (std::vector<float>{1, 2, 3, 4, 5, 6}));
+  EXPECT_EQ(b->seed, 7u);
+  const auto r = store_->Read([](Connection& c) { return GetClassifier(c, "rooms", true); });
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->model, std::string("ESAM\0\x01", 6));
+  EXPECT_EQ(store_->Read([](Connection& c) { return ListClassifiers(c); }).size(), 1u);
+}
+
+}  // namespace
+}  // namespace anchordb::storage
