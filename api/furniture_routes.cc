@@ -45,6 +45,11 @@ void RegisterFurnitureRoutes(Router& router, FurnitureService& f) {
       "Forget the descriptions: back to the graph as seen", [&f](const httplib::Request&, const PathParams& p) {
         return JsonResponse(ToJson(f.Reset(p["map"], GraphId(p))));
       });
+  router.Add("POST", "/v1/maps/{map}/furniture-graphs/{graph}:resolve", Role::kWriter,
+      "Settle an ambiguous description by naming its pieces {seq?, located, reference}: its held category update applies",
+      [&f](const httplib::Request& req, const PathParams& p) {
+        return JsonResponse(ToJson(f.Resolve(p["map"], GraphId(p), ParseResolve(json::ParseObject(req.body)))));
+      });
   router.Add("POST", "/v1/maps/{map}/furniture-graphs/{graph}:describe", Role::kReader,
       "Speech production: how this listener most likely names two pieces and their relation {located, reference}",
       [&f](const httplib::Request& req, const PathParams& p) {

@@ -12,17 +12,24 @@ namespace anchordb::storage {
 namespace g = engine::grounding;
 
 // ---- the hypotheses codec: f64 array
-//   header: magic 4.5e6 + version (1), step, next_id, count, vertices, categories, directed edges
+//   header: magic 4.5e6 + version (1 or 2), step, next_id, count, vertices, categories, directed edges
+//   version 2 only: held steps h, then h x (step, located, relation, reference)
 //   per hypothesis: id, parent_id, has_scheme, scheme, score, t; t x (directed, interpretation, relation, scheme,
 //   score); t lineage ids; t lineage ranks; p(f) V x K; p(o) V x 4; p(r) D x 4
 namespace {
-constexpr double kCodecMagic = 4'500'001.0;
+constexpr double kCodecMagicV1 = 4'500'001.0;
+constexpr double kCodecMagic = 4'500'002.0;
 }
 
 std::string EncodeHypotheses(const g::FurnitureGraph& graph, const g::HypothesisSet& set) {
   std::vector<double> v = {kCodecMagic, static_cast<double>(set.step), static_cast<double>(set.next_id),
                            static_cast<double>(set.ranked.size()), static_cast<double>(graph.vertices.size()),
-                           static_cast<double>(graph.category_count), static_cast<double>(graph.DirectedEdgeCount())};
+                           static_cast<double>(graph.category_count), static_cast<double>(graph.DirectedEdgeCount()),
+                           static_cast<double>(set.held.size())};
+  for (const g::HeldStep& held : set.held) {
+    v.insert(v.end(), {static_cast<double>(held.step), static_cast<double>(held.description.located),
+                       static_cast<double>(held.description.relation), static_cast<double>(held.description.reference)});
+  }
   for (const g::Hypothesis& h : set.ranked) {
     v.insert(v.end(), {static_cast<double>(h.id), static_cast<double>(h.parent_id), h.scheme ? 1.0 : 0.0,
                        h.scheme ? static_cast<double>(*h.scheme) : 0.0, h.score, static_cast<double>(h.matches.size())});
@@ -57,7 +64,8 @@ g::HypothesisSet DecodeHypotheses(const g::FurnitureGraph& graph, std::string_vi
     if (!(x >= lo && x <= hi) || x != std::floor(x)) throw corrupt("a count or index is out of range");
     return static_cast<std::int64_t>(x);
   };
-  if (next() != kCodecMagic) throw corrupt("unknown format");
+  const double magic = next();
+  if (magic != kCodecMagic && magic != kCodecMagicV1) throw corrupt("unknown format");
   g::HypothesisSet set;
   set.step = static_cast<int>(next_int(0, 1e9));
   set.next_id = next_int(0, 9e15);
@@ -67,6 +75,17 @@ g::HypothesisSet DecodeHypotheses(const g::FurnitureGraph& graph, std::string_vi
   if (next_int(0, 1e9) != static_cast<std::int64_t>(vertices) || next_int(0, 1e9) != graph.category_count ||
       next_int(0, 1e9) != directed) {
     throw corrupt("shape does not match the graph");
+  }
+  if (magic == kCodecMagic) {
+    const std::int64_t held = next_int(0, set.step);
+    for (std::int64_t i = 0; i < held; ++i) {
+      g::HeldStep h;
+      h.step = static_cast<int>(next_int(0, set.step - 1));
+      h.description.located = static_cast<int>(next_int(0, graph.category_count - 1));
+      h.description.relation = static_cast<g::Relation>(next_int(0, g::kRelationCount - 1));
+      h.description.reference = static_cast<int>(next_int(0, graph.category_count - 1));
+      set.held.push_back(h);
+    }
   }
   for (std::int64_t i = 0; i < count; ++i) {
     g::Hypothesis h;

@@ -37,7 +37,9 @@ std::string ParamsDocument(const FurnitureGraphParams& p) {
               {"edge_max_gap_m", p.edge_max_gap_m},
               {"relation_sharpness", p.relation_sharpness},
               {"adaptation", p.adaptation},
-              {"frame_prior", p.frame_prior == FramePrior::kUniform ? "uniform" : "statistical"}}
+              {"frame_prior", p.frame_prior == FramePrior::kUniform ? "uniform" : "statistical"},
+              {"ambiguity_margin", p.ambiguity_margin},
+              {"category_floor", p.category_floor}}
       .dump();
 }
 
@@ -51,6 +53,9 @@ FurnitureGraphParams ParamsFromDocument(const std::string& text) {
   p.adaptation = j.at("adaptation").get<bool>();
   const std::string prior = j.at("frame_prior").get<std::string>();
   p.frame_prior = prior == "uniform" ? FramePrior::kUniform : FramePrior::kStatistical;
+  // Graphs stored before issue 17 keep the thesis' behaviour.
+  p.ambiguity_margin = j.value("ambiguity_margin", 0.0);
+  p.category_floor = j.value("category_floor", 0.0);
   return p;
 }
 

@@ -26,6 +26,9 @@ struct ResolvedDescription {
 };
 ResolvedDescription ResolveDescription(const DescriptionRequest& request, const g::CategoryTable& table);
 
+// A match of the engine in the terms a client is told (furniture_service.cc).
+MatchView MatchOf(const g::FurnitureGraph& graph, const g::Match& m);
+
 // The stored form (furniture_graph_json.cc), as the database keeps it.
 std::string ViewpointDocument(const g::Viewpoint& v);
 g::Viewpoint ViewpointFromDocument(const std::string& text);
@@ -51,5 +54,12 @@ struct FurnitureService::Graph {
   g::Viewpoint viewpoint;
   g::HypothesisSet set;
 };
+
+namespace furniture_detail {
+// The competing readings of description `step` and the question to ask back (furniture_ambiguity.cc).
+AmbiguityView AmbiguityOf(const FurnitureService::Graph& graph, int step, const g::Description& d, bool ambiguous, bool poor);
+// The pending (held) descriptions of the graph's live set.
+std::vector<AmbiguityView> PendingOf(const FurnitureService::Graph& graph);
+}  // namespace furniture_detail
 
 }  // namespace anchordb::services
