@@ -13,7 +13,8 @@ namespace g = engine::grounding;
 
 // ---- the hypotheses codec: f64 array
 //   header: magic 4.5e6 + version (1 or 2), step, next_id, count, vertices, categories, directed edges
-//   version 2 only: held steps h, then h x (step, located, relation, reference)
+//   version 2 only: held steps h, then h x (step, located, relation, reference); each match also carries
+//   (located_category, reference_category)
 //   per hypothesis: id, parent_id, has_scheme, scheme, score, t; t x (directed, interpretation, relation, scheme,
 //   score); t lineage ids; t lineage ranks; p(f) V x K; p(o) V x 4; p(r) D x 4
 namespace {
@@ -35,7 +36,8 @@ std::string EncodeHypotheses(const g::FurnitureGraph& graph, const g::Hypothesis
                        h.scheme ? static_cast<double>(*h.scheme) : 0.0, h.score, static_cast<double>(h.matches.size())});
     for (const g::Match& m : h.matches) {
       v.insert(v.end(), {static_cast<double>(m.directed_edge), static_cast<double>(m.interpretation), static_cast<double>(m.relative),
-                         static_cast<double>(m.scheme), m.score});
+                         static_cast<double>(m.scheme), m.score, static_cast<double>(m.located_category),
+                         static_cast<double>(m.reference_category)});
     }
     for (std::int64_t id : h.lineage) v.push_back(static_cast<double>(id));
     for (int r : h.lineage_ranks) v.push_back(static_cast<double>(r));
@@ -103,6 +105,10 @@ g::HypothesisSet DecodeHypotheses(const g::FurnitureGraph& graph, std::string_vi
       m.relative = static_cast<g::Relation>(next_int(0, g::kRelationCount - 1));
       m.scheme = static_cast<g::Scheme>(next_int(0, g::kSchemeCount - 1));
       m.score = next();
+      if (magic == kCodecMagic) {
+        m.located_category = static_cast<int>(next_int(-1, graph.category_count - 1));
+        m.reference_category = static_cast<int>(next_int(-1, graph.category_count - 1));
+      }
       h.matches.push_back(m);
     }
     for (std::int64_t s = 0; s < t; ++s) h.lineage.push_back(next_int(0, 9e15));

@@ -39,7 +39,11 @@ void SettleHeld(const FurnitureGraph& graph, HypothesisSet& set, std::size_t hel
   const HeldStep held = set.held.at(held_index);
   for (Hypothesis& h : set.ranked) {
     if (static_cast<std::size_t>(held.step) >= h.matches.size()) continue;
-    ApplyCategoryUpdate(graph, h.state, held.description, h.matches[static_cast<std::size_t>(held.step)], sigma, category_floor);
+    // Confirmation by any other description of the sequence counts, earlier or later than the held one.
+    std::vector<Match> others = h.matches;
+    others.erase(others.begin() + held.step);
+    ApplyCategoryUpdate(graph, h.state, held.description, h.matches[static_cast<std::size_t>(held.step)], sigma,
+                        category_floor, others);
   }
   set.held.erase(set.held.begin() + static_cast<std::ptrdiff_t>(held_index));
 }
@@ -64,18 +68,25 @@ void KeepPair(const FurnitureGraph& graph, HypothesisSet& set, int step, int loc
   if (held == set.held.end()) {
     throw Error(ErrorCode::kConflict, "description " + std::to_string(step + 1) + " is not awaiting a resolution", "seq");
   }
-  std::vector<Hypothesis> kept;
-  for (Hypothesis& h : set.ranked) {
+  std::vector<std::size_t> kept;
+  for (std::size_t i = 0; i < set.ranked.size(); ++i) {
+    const Hypothesis& h = set.ranked[i];
     if (static_cast<std::size_t>(step) >= h.matches.size()) continue;
     const int e = h.matches[static_cast<std::size_t>(step)].directed_edge;
-    if (graph.Located(e) == located && graph.Reference(e) == reference) kept.push_back(std::move(h));
+    if (graph.Located(e) == located && graph.Reference(e) == reference) kept.push_back(i);
   }
   if (kept.empty()) {
-    // Only matching hypotheses were moved out, and there were none: `set` is unchanged.
     throw Error(ErrorCode::kUnprocessable, "no live hypothesis matches description " + std::to_string(step + 1) +
                                                " to that pair of pieces", "located");
   }
-  set.ranked = std::move(kept);
+  const Hypothesis& first = set.ranked[kept.front()];
+  if (IsPoorMatch(graph, first.state, held->description, first.matches[static_cast<std::size_t>(step)], category_floor)) {
+    throw Error(ErrorCode::kUnprocessable, "those pieces are not believed to be what description " + std::to_string(step + 1) +
+                                               " names", "located");
+  }
+  std::vector<Hypothesis> ranked;
+  for (std::size_t i : kept) ranked.push_back(std::move(set.ranked[i]));
+  set.ranked = std::move(ranked);
   SettleHeld(graph, set, static_cast<std::size_t>(held - set.held.begin()), sigma, category_floor);
 }
 

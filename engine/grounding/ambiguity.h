@@ -9,8 +9,8 @@
 //    descriptions tell the readings apart) and records the step as held;
 //  - a held step settles when a later description leaves a single pair within the margin, or when a client names
 //    the pair (KeepPair): every live hypothesis then applies the held category update of its own match.
-// A poor match - a described category below `category_floor` on the piece it is matched to - never moves that
-// piece's p(f) (ApplyMatch), held or not.
+// A poor match - a described category below `category_floor` on the piece it is matched to - does not move that
+// piece's p(f) (ApplyMatch) unless another description of the same sequence named the piece so too.
 #include <vector>
 
 #include "engine/grounding/grounding.h"
@@ -30,7 +30,8 @@ struct Alternative {
 std::vector<Alternative> AlternativesAt(const FurnitureGraph& graph, const HypothesisSet& set, int step, double margin,
                                         int max_count);
 
-// Whether `match` of `d` is poor: a described category has p < category_floor on its piece in `state`.
+// Whether `match` of `d` is poor: a described category has p < category_floor on its piece in `state` (the state
+// after the match: a poor match leaves that p as it was, or raises it once confirmed).
 bool IsPoorMatch(const FurnitureGraph& graph, const GraphState& state, const Description& d, const Match& match,
                  double category_floor);
 
@@ -43,7 +44,8 @@ std::vector<int> SettleClearSteps(const FurnitureGraph& graph, HypothesisSet& se
 
 // An explicit resolution: keeps only the hypotheses that match held step `step` to (located, reference), then
 // settles it. Error(kConflict) when `step` is not held; Error(kUnprocessable) when no live hypothesis matches the
-// description to that pair.
+// description to that pair, or its reading fits poorly (those pieces are not believed to be what it names). `set` is
+// unchanged on error.
 void KeepPair(const FurnitureGraph& graph, HypothesisSet& set, int step, int located, int reference, double sigma,
               double category_floor);
 

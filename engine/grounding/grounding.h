@@ -64,17 +64,21 @@ struct Match {
   Relation relative = Relation::kLeftOf;  // r'
   Scheme scheme = Scheme::kStatistical;
   double score = 0.0;                     // S of this step
+  int located_category = -1;              // the categories the description named (-1: not recorded)
+  int reference_category = -1;
 };
 
-// The state after applying `match` of description `d` to `state` (eq. 5.4, 5.5). A vertex's p(f) moves only when
-// the described category already has p >= category_floor there (a poor match never moves a category belief; 0 =
-// always, the thesis); `categories` = false holds the category half of the update back (an ambiguous step).
+// The state after applying `match` of description `d` to `state` (eq. 5.4, 5.5). A poor match - a described
+// category below category_floor on its piece that no earlier match of the same hypothesis (`earlier`) named that
+// piece with - moves no p(f) at all: one poor match never moves a category belief, a confirmed one does (0 = the
+// thesis: always). `categories` = false holds the category half of the update
+// back (an ambiguous step).
 GraphState ApplyMatch(const FurnitureGraph& graph, const GraphState& state, const Knowledge& knowledge,
                       const Description& d, const Match& match, double sigma, double category_floor = 0.0,
-                      bool categories = true);
+                      bool categories = true, const std::vector<Match>& earlier = {});
 // The category half of eq. 5.4 alone (what ApplyMatch holds back for an ambiguous step), in place.
 void ApplyCategoryUpdate(const FurnitureGraph& graph, GraphState& state, const Description& d, const Match& match,
-                         double sigma, double category_floor);
+                         double sigma, double category_floor, const std::vector<Match>& earlier);
 
 struct Hypothesis {
   std::int64_t id = 0;                  // G0 = 0, then 1, 2, ... across steps (figure 5.8)

@@ -30,7 +30,7 @@ struct FurnitureSettings {
   double edge_max_gap_m = 1.5;       // pieces closer than this share an edge [m]
   double relation_sharpness = 3.0;   // kappa of the initial p(r) by angle
   double ambiguity_margin = 0.02;    // default of params.ambiguity_margin (units of S, eq. 5.2)
-  double category_floor = 0.1;       // default of params.category_floor (chance level of the 10 default categories)
+  double category_floor = 0.05;      // default of params.category_floor (half the chance level of the 10 default categories)
   int max_furniture = 64;            // pieces per graph
   std::size_t max_text_length = 500; // characters of a spoken description
   // The grounding knowledge document ({"categories": ..., "frame_prior": ...}, either may be missing); empty = the

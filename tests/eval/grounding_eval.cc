@@ -203,6 +203,8 @@ TrialResult RunTrial(const Participant& p, Quality q, Condition c, const Knowled
   GroundingParams params;
   params.n_best = options.n_best;
   params.sigma = options.sigma;
+  params.ambiguity_margin = options.ambiguity_margin;
+  params.category_floor = options.category_floor;
   switch (c) {
     case Condition::kAdaptation: params.schemes = {Scheme::kStatistical, Scheme::kRelative, Scheme::kIntrinsic}; break;
     case Condition::kNoAdaptation: params.schemes = {Scheme::kStatistical}; break;
@@ -215,6 +217,12 @@ TrialResult RunTrial(const Participant& p, Quality q, Condition c, const Knowled
                         p.pieces[static_cast<std::size_t>(td.reference)].category};
     set = Ground(graph, knowledge, set, d, params);
     r.intrinsic_descriptions += td.frame == Frame::kIntrinsic && td.frames_differ;
+    const int step = set.step - 1;
+    const bool held = std::any_of(set.held.begin(), set.held.end(), [&](const HeldStep& h) { return h.step == step; });
+    const bool wrong = set.ranked.front().matches.back().directed_edge != graph.FindDirected(td.located, td.reference);
+    r.held += held;
+    r.held_wrong += held && wrong;
+    r.unheld_wrong += !held && wrong;
   }
   const Hypothesis& best = set.ranked.front();
   r.descriptions = static_cast<int>(p.descriptions.size());
@@ -259,6 +267,9 @@ void Tally::Add(const TrialResult& r) {
     misclassified_corrected += r.misclassified_right;
   }
   worst_rank_reverted = std::max(worst_rank_reverted, r.worst_rank_reverted);
+  held += r.held;
+  held_wrong += r.held_wrong;
+  unheld_wrong += r.unheld_wrong;
 }
 
 Tally Evaluation::Over(Quality q, Condition c) const {
@@ -275,6 +286,9 @@ Tally Evaluation::Over(Quality q, Condition c) const {
     all.misclassified += t.misclassified;
     all.misclassified_corrected += t.misclassified_corrected;
     all.worst_rank_reverted = std::max(all.worst_rank_reverted, t.worst_rank_reverted);
+    all.held += t.held;
+    all.held_wrong += t.held_wrong;
+    all.unheld_wrong += t.unheld_wrong;
   }
   return all;
 }
