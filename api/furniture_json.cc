@@ -40,7 +40,7 @@ g::Viewpoint ParseViewpoint(const Json& j) {
 GraphParamsRequest ParseParams(const Json& j) {
   if (!j.is_object()) BadArgument("params must be an object", "params");
   json::RejectUnknownKeys(j, {"n_best", "sigma", "edge_max_gap_m", "relation_sharpness", "adaptation", "frame_prior",
-                              "ambiguity_margin", "category_floor"}, "params");
+                              "ambiguity_margin", "category_floor", "orientation_prior", "occupancy_layer"}, "params");
   GraphParamsRequest p;
   if (Given(j, "n_best")) p.n_best = json::IntegerOr(j, "n_best", 0, "params");
   if (Given(j, "sigma")) p.sigma = json::FiniteNumberOr(j, "sigma", 0.0, "params");
@@ -48,6 +48,12 @@ GraphParamsRequest ParseParams(const Json& j) {
   if (Given(j, "relation_sharpness")) p.relation_sharpness = json::FiniteNumberOr(j, "relation_sharpness", 0.0, "params");
   if (Given(j, "ambiguity_margin")) p.ambiguity_margin = json::FiniteNumberOr(j, "ambiguity_margin", 0.0, "params");
   if (Given(j, "category_floor")) p.category_floor = json::FiniteNumberOr(j, "category_floor", 0.0, "params");
+  if (const auto prior = json::OptionalString(j, "orientation_prior", limits::kWordLength, "params")) {
+    if (*prior == "room") p.orientation_prior = OrientationPrior::kRoom;
+    else if (*prior == "uniform") p.orientation_prior = OrientationPrior::kUniform;
+    else BadArgument("orientation_prior must be room or uniform", "params.orientation_prior");
+  }
+  if (Given(j, "occupancy_layer")) p.occupancy_layer = json::RequireId(j, "occupancy_layer", "params");
   if (Given(j, "adaptation")) p.adaptation = json::BoolOr(j, "adaptation", true, "params");
   if (const auto prior = json::OptionalString(j, "frame_prior", limits::kWordLength, "params")) {
     if (*prior == "statistical") p.frame_prior = FramePrior::kStatistical;
@@ -97,7 +103,9 @@ Json ViewpointJson(const g::Viewpoint& v) { return {{"position", Vec(v.position_
 Json ParamsJson(const FurnitureGraphParams& p) {
   return {{"n_best", p.n_best}, {"sigma", p.sigma}, {"edge_max_gap_m", p.edge_max_gap_m}, {"relation_sharpness", p.relation_sharpness},
           {"adaptation", p.adaptation}, {"frame_prior", p.frame_prior == FramePrior::kUniform ? "uniform" : "statistical"},
-          {"ambiguity_margin", p.ambiguity_margin}, {"category_floor", p.category_floor}};
+          {"ambiguity_margin", p.ambiguity_margin}, {"category_floor", p.category_floor},
+          {"orientation_prior", p.orientation_prior == OrientationPrior::kRoom ? "room" : "uniform"},
+          {"occupancy_layer", p.occupancy_layer.empty() ? Json(nullptr) : Json(p.occupancy_layer)}};
 }
 
 std::string SchemeName(const std::optional<g::Scheme>& s) { return s ? g::SchemeId(*s) : "none"; }

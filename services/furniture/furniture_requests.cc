@@ -54,6 +54,8 @@ FurnitureGraphParams ResolveParams(const GraphParamsRequest& r, const FurnitureS
   CheckRange(p.ambiguity_margin, 0.0, 10.0, "ambiguity_margin");
   p.category_floor = r.category_floor.value_or(s.category_floor);
   CheckRange(p.category_floor, 0.0, 1.0, "category_floor");
+  p.orientation_prior = r.orientation_prior.value_or(OrientationPrior::kRoom);
+  p.occupancy_layer = r.occupancy_layer.value_or("");
   return p;
 }
 

@@ -4,6 +4,7 @@
 
 #include "services/furniture/furniture_service_internal.h"
 #include "engine/grounding/ambiguity.h"
+#include "engine/grounding/orientation_prior.h"
 #include "engine/grounding/readings.h"
 #include "storage/hypotheses_codec.h"
 #include "storage/repositories.h"
@@ -53,6 +54,11 @@ GraphView FurnitureService::Create(const std::string& map, const CreateGraphRequ
   const auto furniture = ResolveFurniture(request.furniture, graph->knowledge.categories, settings_.max_furniture);
   graph->graph = g::BuildFurnitureGraph(graph->viewpoint, furniture, graph->knowledge.categories.size(),
                                         g::GraphParams{graph->params.edge_max_gap_m, graph->params.relation_sharpness});
+  if (graph->params.orientation_prior == OrientationPrior::kRoom) {
+    const auto occupancy = OccupancyOf(store_, map, graph->params.occupancy_layer);
+    graph->graph.initial.orientation = g::RoomOrientationPrior(graph->viewpoint, furniture, graph->knowledge.categories,
+                                                               g::RoomLayout{occupancy ? &*occupancy : nullptr, {}});
+  }
   graph->set = g::InitialHypotheses(graph->graph);
   storage::FurnitureGraphRecord& r = graph->record;
   r.map_id = map;

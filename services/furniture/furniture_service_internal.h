@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/grid/grid.h"
 #include "services/furniture/furniture_service.h"
 #include "schema/error.h"
 
@@ -25,6 +26,10 @@ struct ResolvedDescription {
   Understood understood;
 };
 ResolvedDescription ResolveDescription(const DescriptionRequest& request, const g::CategoryTable& table);
+
+// The occupancy grid of layer `layer` of `map` for the room's orientation prior; nullopt when `layer` is empty.
+// Unknown layer kNotFound, a layer of another kind kUnprocessable (furniture_room.cc).
+std::optional<engine::OccupancyGrid> OccupancyOf(storage::Store& store, const std::string& map, const std::string& layer);
 
 // A match of the engine in the terms a client is told (furniture_service.cc).
 MatchView MatchOf(const g::FurnitureGraph& graph, const g::Match& m);

@@ -15,6 +15,8 @@
 namespace anchordb::services {
 
 enum class FramePrior { kStatistical, kUniform };
+// The initial p(o): from the room (engine/grounding/orientation_prior.h) or uniform (the thesis).
+enum class OrientationPrior { kRoom, kUniform };
 
 // The parameters a graph was created with (defaults: FurnitureSettings).
 struct FurnitureGraphParams {
@@ -29,6 +31,8 @@ struct FurnitureGraphParams {
   double ambiguity_margin = 0.0;
   // A piece's p(f) moves only towards a category it holds with at least this probability; 0 = always.
   double category_floor = 0.0;
+  OrientationPrior orientation_prior = OrientationPrior::kUniform;  // graphs stored before issue 17: uniform
+  std::string occupancy_layer;  // the map's occupancy layer the room prior finds walls in ("" = none)
 };
 
 // Requested parameters; an unset one takes the service's setting. Out of range: Error(kUnprocessable) naming
@@ -42,6 +46,8 @@ struct GraphParamsRequest {
   std::optional<FramePrior> frame_prior;
   std::optional<double> ambiguity_margin;  // [0, 10]
   std::optional<double> category_floor;    // [0, 1]
+  std::optional<OrientationPrior> orientation_prior;  // default kRoom
+  std::optional<std::string> occupancy_layer;         // an occupancy layer of the map; unknown: kNotFound
 };
 
 // A category word (or id) of the knowledge table and its weight (>= 0; the weights of a piece are normalised).

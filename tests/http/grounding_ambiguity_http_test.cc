@@ -17,17 +17,21 @@ namespace {
 using nlohmann::json;
 
 // Seen from the origin looking along +x (map +y is the viewer's left): a chair, one table to its left, one table in
-// front of it (nearer the viewer), a plant behind it that vision is sure about.
-json TwoTables() {
-  return json::parse(R"({
+// front of it (nearer the viewer), a plant behind it that vision is sure about. The chair's orientation is unknown
+// (uniform p(o)) unless `room_prior`: then it faces the nearer table (the one in front).
+json TwoTables(bool room_prior = false) {
+  json out = json::parse(R"({
     "viewpoint": {"position": [0, 0], "heading_rad": 0},
     "furniture": [
       {"id": "chair", "position": [3.0, 0.0], "extent": [0.5, 0.5], "categories": {"chair": 0.7, "armchair": 0.2, "stool": 0.1}},
       {"id": "table_left", "position": [3.0, 1.3], "extent": [0.8, 0.8], "categories": {"table": 0.7, "stool": 0.2, "chair": 0.1}},
       {"id": "table_front", "position": [1.9, 0.0], "extent": [0.6, 0.6], "categories": {"table": 0.7, "stool": 0.2, "chair": 0.1}},
       {"id": "plant", "position": [4.1, 0.0], "extent": [0.4, 0.4], "categories": {"plant": 0.9, "stool": 0.1}}
-    ]
+    ],
+    "params": {"orientation_prior": "uniform"}
   })");
+  if (room_prior) out["params"].erase("orientation_prior");
+  return out;
 }
 
 class GroundingAmbiguityHttpTest : public ::testing::Test {
@@ -55,9 +59,9 @@ class GroundingAmbiguityHttpTest : public ::testing::Test {
     EXPECT_TRUE(r && r->status == 200) << path << (r ? r->body : "");
     return r ? json::parse(r->body, nullptr, false) : json();
   }
-  std::string NewGraph() {
+  std::string NewGraph(bool room_prior = false) {
     Post("/v1/maps", {{"id", "home"}, {"name", "Home"}}, 201);
-    const json g = Post("/v1/maps/home/furniture-graphs", TwoTables(), 201);
+    const json g = Post("/v1/maps/home/furniture-graphs", TwoTables(room_prior), 201);
     return "/v1/maps/home/furniture-graphs/" + std::to_string(g.value("id", 0));
   }
   static json Categories(const json& graph) {
@@ -145,6 +149,29 @@ TEST_F(GroundingAmbiguityHttpTest, DescriptionThatFitsNoPieceChangesNoCategoryDi
   EXPECT_TRUE(ok["ambiguity"].is_null()) << ok.dump();
   const json after = Categories(Get(graph));
   EXPECT_GT(after["plant"]["plant"].get<double>(), seen["plant"]["plant"].get<double>());
+}
+
+TEST_F(GroundingAmbiguityHttpTest, TheRoomPriorTurnsTheChairToItsTableAndSettlesTheDuplicate) {
+  Start();
+  const std::string graph = NewGraph(true);
+  const json g = Get(graph);
+  EXPECT_EQ(g["params"]["orientation_prior"], "room");
+  const json& chair = g["vertices"][0];
+  ASSERT_EQ(chair["id"], "chair");
+  EXPECT_GT(chair["orientations"]["front"].get<double>(), 0.5);  // facing the table in front, i.e. the viewer
+  EXPECT_EQ(g["vertices"][3]["orientations"]["front"], 0.25);      // a plant has no rule
+  // With the chair's front known, the intrinsic reading that made the front table "left of the chair" loses.
+  const json r = Post(graph + "/descriptions", {{"text", "the table is left of the chair"}}, 201);
+  EXPECT_TRUE(r["ambiguity"].is_null()) << r.dump();
+  EXPECT_EQ(r["match"]["located"], "table_left");
+  // The prior is stored with the graph: a restart keeps it.
+  Restart();
+  EXPECT_EQ(Get(graph)["vertices"][0]["orientations"], chair["orientations"]);
+  json bad = TwoTables(true);
+  bad["params"]["occupancy_layer"] = "no_such_layer";
+  Post("/v1/maps/home/furniture-graphs", bad, 404);
+  bad["params"]["orientation_prior"] = "sideways";
+  Post("/v1/maps/home/furniture-graphs", bad, 400);
 }
 
 }  // namespace
