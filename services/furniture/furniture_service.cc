@@ -19,6 +19,12 @@ Error NoMap(const std::string& map) { return Error(ErrorCode::kNotFound, "map '"
 
 }  // namespace
 
+int furniture_detail::VertexOrNotFound(const g::FurnitureGraph& graph, const std::string& id, const char* field) {
+  const int v = graph.VertexIndex(id);
+  if (v < 0) throw Error(ErrorCode::kNotFound, "the graph has no vertex '" + id + "'", field);
+  return v;
+}
+
 MatchView furniture_detail::MatchOf(const g::FurnitureGraph& graph, const g::Match& m) {
   MatchView out;
   out.located = graph.vertices[static_cast<std::size_t>(graph.Located(m.directed_edge))].id;
@@ -232,9 +238,8 @@ GroundingResult FurnitureService::Describe(const std::string& map, std::int64_t 
 GraphView FurnitureService::Resolve(const std::string& map, std::int64_t id, const ResolveRequest& request) {
   auto graph = Acquire(map, id);
   std::lock_guard<std::mutex> lock(graph->mutex);
-  const int a = graph->graph.VertexIndex(request.located), b = graph->graph.VertexIndex(request.reference);
-  if (a < 0) throw Error(ErrorCode::kNotFound, "the graph has no vertex '" + request.located + "'", "located");
-  if (b < 0) throw Error(ErrorCode::kNotFound, "the graph has no vertex '" + request.reference + "'", "reference");
+  const int a = VertexOrNotFound(graph->graph, request.located, "located");
+  const int b = VertexOrNotFound(graph->graph, request.reference, "reference");
   if (graph->set.held.empty()) throw Error(ErrorCode::kConflict, "no description of this graph is awaiting a resolution", "seq");
   const std::int64_t seq = request.seq.value_or(graph->set.held.front().step + 1);
   if (seq < 1 || seq > graph->set.step) throw Error(ErrorCode::kUnprocessable, "seq must name a grounded description", "seq");

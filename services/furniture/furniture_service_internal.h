@@ -31,6 +31,9 @@ ResolvedDescription ResolveDescription(const DescriptionRequest& request, const 
 // Unknown layer kNotFound, a layer of another kind kUnprocessable (furniture_room.cc).
 std::optional<engine::OccupancyGrid> OccupancyOf(storage::Store& store, const std::string& map, const std::string& layer);
 
+// The vertex with id `id` (a pair's `field`, "located" or "reference"); kNotFound naming the field otherwise.
+int VertexOrNotFound(const g::FurnitureGraph& graph, const std::string& id, const char* field);
+
 // A match of the engine in the terms a client is told (furniture_service.cc).
 MatchView MatchOf(const g::FurnitureGraph& graph, const g::Match& m);
 

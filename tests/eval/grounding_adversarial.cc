@@ -1,4 +1,5 @@
 #include "tests/eval/grounding_adversarial.h"
+#include "tests/eval/seeded_rng.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,18 +10,11 @@
 namespace anchordb::eval::adversarial {
 
 using namespace engine::grounding;
+using eval::SeededRng;
 
 namespace {
 
-class Rng {
- public:
-  explicit Rng(std::uint64_t seed) : engine_(seed) {}
-  double Uniform(double lo, double hi) { return lo + (hi - lo) * static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
-  int Below(int n) { return static_cast<int>(engine_() % static_cast<std::uint64_t>(n)); }
-
- private:
-  std::mt19937_64 engine_;
-};
+using Rng = SeededRng;
 
 // The room: x 1-6.5 m, y -2.5-2.5 m; the viewer stands at (1.3, 0) looking along +x.
 constexpr double kRoomX0 = 1.0, kRoomX1 = 6.5, kRoomHalfY = 2.5;

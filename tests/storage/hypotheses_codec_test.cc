@@ -41,13 +41,11 @@ TEST(HypothesesCodec, RoundTripsAndRejectsCorruption) {
 }
 
 TEST(HypothesesCodec, HeldStepsAndDescribedCategoriesRoundTrip) {
-  const g::Knowledge& k = g::DefaultKnowledge();
   const std::vector<double> pf(10, 0.1);
   const g::FurnitureGraph graph = g::BuildFurnitureGraph(
       {{0, 0}, 0}, {{"a", {2, 0}, {0.5, 0.5}, 0, pf}, {"b", {2, 1}, {0.5, 0.5}, 0, pf}, {"c", {3, 0}, {0.5, 0.5}, 0, pf}}, 10, {});
-  g::GroundingParams params;
-  params.n_best = 7;
-  g::HypothesisSet set = g::Ground(graph, k, g::InitialHypotheses(graph), {0, g::Relation::kLeftOf, 1}, params);
+  const g::GroundingParams params;
+  g::HypothesisSet set = g::Ground(graph, g::DefaultKnowledge(), g::InitialHypotheses(graph), {0, g::Relation::kLeftOf, 1}, params);
   set.held.push_back({0, {0, g::Relation::kLeftOf, 1}});  // as an ambiguous step leaves it
   const g::HypothesisSet back = DecodeHypotheses(graph, EncodeHypotheses(graph, set));
   ASSERT_EQ(back.held.size(), 1u);
