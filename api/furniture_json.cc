@@ -39,12 +39,21 @@ g::Viewpoint ParseViewpoint(const Json& j) {
 
 GraphParamsRequest ParseParams(const Json& j) {
   if (!j.is_object()) BadArgument("params must be an object", "params");
-  json::RejectUnknownKeys(j, {"n_best", "sigma", "edge_max_gap_m", "relation_sharpness", "adaptation", "frame_prior"}, "params");
+  json::RejectUnknownKeys(j, {"n_best", "sigma", "edge_max_gap_m", "relation_sharpness", "adaptation", "frame_prior",
+                              "ambiguity_margin", "category_floor", "orientation_prior", "occupancy_layer"}, "params");
   GraphParamsRequest p;
   if (Given(j, "n_best")) p.n_best = json::IntegerOr(j, "n_best", 0, "params");
   if (Given(j, "sigma")) p.sigma = json::FiniteNumberOr(j, "sigma", 0.0, "params");
   if (Given(j, "edge_max_gap_m")) p.edge_max_gap_m = json::FiniteNumberOr(j, "edge_max_gap_m", 0.0, "params");
   if (Given(j, "relation_sharpness")) p.relation_sharpness = json::FiniteNumberOr(j, "relation_sharpness", 0.0, "params");
+  if (Given(j, "ambiguity_margin")) p.ambiguity_margin = json::FiniteNumberOr(j, "ambiguity_margin", 0.0, "params");
+  if (Given(j, "category_floor")) p.category_floor = json::FiniteNumberOr(j, "category_floor", 0.0, "params");
+  if (const auto prior = json::OptionalString(j, "orientation_prior", limits::kWordLength, "params")) {
+    if (*prior == "room") p.orientation_prior = OrientationPrior::kRoom;
+    else if (*prior == "uniform") p.orientation_prior = OrientationPrior::kUniform;
+    else BadArgument("orientation_prior must be room or uniform", "params.orientation_prior");
+  }
+  if (Given(j, "occupancy_layer")) p.occupancy_layer = json::RequireId(j, "occupancy_layer", "params");
   if (Given(j, "adaptation")) p.adaptation = json::BoolOr(j, "adaptation", true, "params");
   if (const auto prior = json::OptionalString(j, "frame_prior", limits::kWordLength, "params")) {
     if (*prior == "statistical") p.frame_prior = FramePrior::kStatistical;
@@ -93,7 +102,10 @@ Json ViewpointJson(const g::Viewpoint& v) { return {{"position", Vec(v.position_
 
 Json ParamsJson(const FurnitureGraphParams& p) {
   return {{"n_best", p.n_best}, {"sigma", p.sigma}, {"edge_max_gap_m", p.edge_max_gap_m}, {"relation_sharpness", p.relation_sharpness},
-          {"adaptation", p.adaptation}, {"frame_prior", p.frame_prior == FramePrior::kUniform ? "uniform" : "statistical"}};
+          {"adaptation", p.adaptation}, {"frame_prior", p.frame_prior == FramePrior::kUniform ? "uniform" : "statistical"},
+          {"ambiguity_margin", p.ambiguity_margin}, {"category_floor", p.category_floor},
+          {"orientation_prior", p.orientation_prior == OrientationPrior::kRoom ? "room" : "uniform"},
+          {"occupancy_layer", p.occupancy_layer.empty() ? Json(nullptr) : Json(p.occupancy_layer)}};
 }
 
 std::string SchemeName(const std::optional<g::Scheme>& s) { return s ? g::SchemeId(*s) : "none"; }
@@ -152,6 +164,17 @@ Json EdgeJson(const EdgeView& e) {
                       {"b_relative_to_a", RelationDistribution(e.visual_b_relative_to_a)}}}};
 }
 
+Json AmbiguityJson(const AmbiguityView& a) {
+  Json alternatives = Json::array();
+  for (const AlternativeView& alt : a.alternatives) {
+    Json item = MatchJson(alt.match);
+    item["total"] = alt.total;
+    item["phrase"] = alt.phrase;
+    alternatives.push_back(item);
+  }
+  return {{"seq", a.seq}, {"ambiguous", a.ambiguous}, {"poor", a.poor}, {"alternatives", alternatives}, {"question", a.question}};
+}
+
 Json NamedPieceJson(const NamedPiece& p) {
   return {{"vertex", p.vertex}, {"label", p.label}, {"name", p.name}, {"probability", p.probability}};
 }
@@ -179,6 +202,15 @@ DescriptionRequest ParseDescription(const Json& body, std::size_t max_text_lengt
   }
   out.located = json::RequireString(body, "located", limits::kDescriptionWordLength);
   out.relation = json::RequireString(body, "relation", limits::kDescriptionWordLength);
+  out.reference = json::RequireString(body, "reference", limits::kDescriptionWordLength);
+  return out;
+}
+
+ResolveRequest ParseResolve(const Json& body) {
+  json::RejectUnknownKeys(body, {"seq", "located", "reference"});
+  ResolveRequest out;
+  if (Given(body, "seq")) out.seq = json::IntegerOr(body, "seq", 0, "");
+  out.located = json::RequireString(body, "located", limits::kDescriptionWordLength);
   out.reference = json::RequireString(body, "reference", limits::kDescriptionWordLength);
   return out;
 }
@@ -213,7 +245,12 @@ Json ToJson(const GraphView& view) {
           {"best", {{"hypothesis", view.best.hypothesis}, {"scheme", SchemeName(view.best.scheme)}, {"score", view.best.score}}},
           {"vertices", vertices},
           {"edges", edges},
-          {"groundings", groundings}};
+          {"groundings", groundings},
+          {"pending", [&] {
+             Json pending = Json::array();
+             for (const AmbiguityView& p : view.pending) pending.push_back(AmbiguityJson(p));
+             return pending;
+           }()}};
 }
 
 Json ToJson(const std::vector<GraphSummary>& graphs) {
@@ -235,7 +272,9 @@ Json ToJson(const GroundingResult& r) {
           {"best", {{"hypothesis", r.best.hypothesis}, {"scheme", SchemeName(r.best.scheme)}, {"score", r.best.score},
                     {"ancestor_ranks", r.ancestor_ranks}, {"revised", r.revised}}},
           {"groundings", sequence},
-          {"hypotheses", r.hypotheses}};
+          {"hypotheses", r.hypotheses},
+          {"ambiguity", r.ambiguity ? AmbiguityJson(*r.ambiguity) : Json(nullptr)},
+          {"settled", r.settled}};
 }
 
 Json ToJson(const HypothesisList& l) {

@@ -16,6 +16,8 @@ services::CreateGraphRequest ParseCreateGraph(const Json& body);
 services::DescriptionRequest ParseDescription(const Json& body, std::size_t max_text_length);
 // {located, reference}: vertex ids.
 services::ProduceRequest ParseProduce(const Json& body);
+// {seq?, located, reference}: which pieces a held description meant (vertex ids).
+services::ResolveRequest ParseResolve(const Json& body);
 
 Json ToJson(const services::GraphView& view);
 Json ToJson(const std::vector<services::GraphSummary>& graphs);  // {"furniture_graphs": [...]}

@@ -19,7 +19,7 @@ std::int64_t GraphId(const PathParams& p) { return PathId(p, "graph", "furniture
 void RegisterFurnitureRoutes(Router& router, FurnitureService& f) {
   router.Add("POST", "/v1/maps/{map}/furniture-graphs", Role::kWriter,
       "Build a furniture graph from furniture seen from a viewpoint (viewpoint, furniture with category "
-      "probabilities, params n_best/sigma/edge_max_gap_m/relation_sharpness/adaptation/frame_prior)",
+      "probabilities, params n_best/sigma/edge_max_gap_m/relation_sharpness/adaptation/frame_prior/ambiguity_margin/category_floor/orientation_prior/occupancy_layer)",
       [&f](const httplib::Request& req, const PathParams& p) {
         return JsonResponse(ToJson(f.Create(p["map"], ParseCreateGraph(json::ParseObject(req.body)))), 201);
       });
@@ -44,6 +44,11 @@ void RegisterFurnitureRoutes(Router& router, FurnitureService& f) {
   router.Add("POST", "/v1/maps/{map}/furniture-graphs/{graph}:reset", Role::kWriter,
       "Forget the descriptions: back to the graph as seen", [&f](const httplib::Request&, const PathParams& p) {
         return JsonResponse(ToJson(f.Reset(p["map"], GraphId(p))));
+      });
+  router.Add("POST", "/v1/maps/{map}/furniture-graphs/{graph}:resolve", Role::kWriter,
+      "Settle an ambiguous description by naming its pieces {seq?, located, reference}: its held category update applies",
+      [&f](const httplib::Request& req, const PathParams& p) {
+        return JsonResponse(ToJson(f.Resolve(p["map"], GraphId(p), ParseResolve(json::ParseObject(req.body)))));
       });
   router.Add("POST", "/v1/maps/{map}/furniture-graphs/{graph}:describe", Role::kReader,
       "Speech production: how this listener most likely names two pieces and their relation {located, reference}",

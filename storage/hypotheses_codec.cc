@@ -12,23 +12,32 @@ namespace anchordb::storage {
 namespace g = engine::grounding;
 
 // ---- the hypotheses codec: f64 array
-//   header: magic 4.5e6 + version (1), step, next_id, count, vertices, categories, directed edges
+//   header: magic 4.5e6 + version (1 or 2), step, next_id, count, vertices, categories, directed edges
+//   version 2 only: held steps h, then h x (step, located, relation, reference); each match also carries
+//   (located_category, reference_category)
 //   per hypothesis: id, parent_id, has_scheme, scheme, score, t; t x (directed, interpretation, relation, scheme,
 //   score); t lineage ids; t lineage ranks; p(f) V x K; p(o) V x 4; p(r) D x 4
 namespace {
-constexpr double kCodecMagic = 4'500'001.0;
+constexpr double kCodecMagicV1 = 4'500'001.0;
+constexpr double kCodecMagic = 4'500'002.0;
 }
 
 std::string EncodeHypotheses(const g::FurnitureGraph& graph, const g::HypothesisSet& set) {
   std::vector<double> v = {kCodecMagic, static_cast<double>(set.step), static_cast<double>(set.next_id),
                            static_cast<double>(set.ranked.size()), static_cast<double>(graph.vertices.size()),
-                           static_cast<double>(graph.category_count), static_cast<double>(graph.DirectedEdgeCount())};
+                           static_cast<double>(graph.category_count), static_cast<double>(graph.DirectedEdgeCount()),
+                           static_cast<double>(set.held.size())};
+  for (const g::HeldStep& held : set.held) {
+    v.insert(v.end(), {static_cast<double>(held.step), static_cast<double>(held.description.located),
+                       static_cast<double>(held.description.relation), static_cast<double>(held.description.reference)});
+  }
   for (const g::Hypothesis& h : set.ranked) {
     v.insert(v.end(), {static_cast<double>(h.id), static_cast<double>(h.parent_id), h.scheme ? 1.0 : 0.0,
                        h.scheme ? static_cast<double>(*h.scheme) : 0.0, h.score, static_cast<double>(h.matches.size())});
     for (const g::Match& m : h.matches) {
       v.insert(v.end(), {static_cast<double>(m.directed_edge), static_cast<double>(m.interpretation), static_cast<double>(m.relative),
-                         static_cast<double>(m.scheme), m.score});
+                         static_cast<double>(m.scheme), m.score, static_cast<double>(m.located_category),
+                         static_cast<double>(m.reference_category)});
     }
     for (std::int64_t id : h.lineage) v.push_back(static_cast<double>(id));
     for (int r : h.lineage_ranks) v.push_back(static_cast<double>(r));
@@ -57,7 +66,8 @@ g::HypothesisSet DecodeHypotheses(const g::FurnitureGraph& graph, std::string_vi
     if (!(x >= lo && x <= hi) || x != std::floor(x)) throw corrupt("a count or index is out of range");
     return static_cast<std::int64_t>(x);
   };
-  if (next() != kCodecMagic) throw corrupt("unknown format");
+  const double magic = next();
+  if (magic != kCodecMagic && magic != kCodecMagicV1) throw corrupt("unknown format");
   g::HypothesisSet set;
   set.step = static_cast<int>(next_int(0, 1e9));
   set.next_id = next_int(0, 9e15);
@@ -67,6 +77,17 @@ g::HypothesisSet DecodeHypotheses(const g::FurnitureGraph& graph, std::string_vi
   if (next_int(0, 1e9) != static_cast<std::int64_t>(vertices) || next_int(0, 1e9) != graph.category_count ||
       next_int(0, 1e9) != directed) {
     throw corrupt("shape does not match the graph");
+  }
+  if (magic == kCodecMagic) {
+    const std::int64_t held = next_int(0, set.step);
+    for (std::int64_t i = 0; i < held; ++i) {
+      g::HeldStep h;
+      h.step = static_cast<int>(next_int(0, set.step - 1));
+      h.description.located = static_cast<int>(next_int(0, graph.category_count - 1));
+      h.description.relation = static_cast<g::Relation>(next_int(0, g::kRelationCount - 1));
+      h.description.reference = static_cast<int>(next_int(0, graph.category_count - 1));
+      set.held.push_back(h);
+    }
   }
   for (std::int64_t i = 0; i < count; ++i) {
     g::Hypothesis h;
@@ -84,6 +105,10 @@ g::HypothesisSet DecodeHypotheses(const g::FurnitureGraph& graph, std::string_vi
       m.relative = static_cast<g::Relation>(next_int(0, g::kRelationCount - 1));
       m.scheme = static_cast<g::Scheme>(next_int(0, g::kSchemeCount - 1));
       m.score = next();
+      if (magic == kCodecMagic) {
+        m.located_category = static_cast<int>(next_int(-1, graph.category_count - 1));
+        m.reference_category = static_cast<int>(next_int(-1, graph.category_count - 1));
+      }
       h.matches.push_back(m);
     }
     for (std::int64_t s = 0; s < t; ++s) h.lineage.push_back(next_int(0, 9e15));

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/grounding/ambiguity.h"
 #include "schema/error.h"
 
 namespace anchordb::engine::grounding {
@@ -103,17 +104,37 @@ Distribution4 OrientationTarget(const FurnitureGraph& graph, int directed, Relat
   return t;
 }
 
-GraphState ApplyMatch(const FurnitureGraph& graph, const GraphState& state, const Knowledge& knowledge,
-                      const Description& d, const Match& match, double sigma) {
-  GraphState out = state;
+void ApplyCategoryUpdate(const FurnitureGraph& graph, GraphState& state, const Description& d, const Match& match,
+                         double sigma, double category_floor, const std::vector<Match>& earlier) {
   const int k = graph.category_count;
-  const int a = graph.Located(match.directed_edge), b = graph.Reference(match.directed_edge);
+  const int vertices[2] = {graph.Located(match.directed_edge), graph.Reference(match.directed_edge)};
+  const int described[2] = {d.located, d.reference};
+  const auto named_before = [&](int vertex, int category) {
+    return std::any_of(earlier.begin(), earlier.end(), [&](const Match& m) {
+      return (graph.Located(m.directed_edge) == vertex && m.located_category == category) ||
+             (graph.Reference(m.directed_edge) == vertex && m.reference_category == category);
+    });
+  };
+  // A poor match (a described category below the floor on its piece, not said of it before in this sequence) moves
+  // no category at all: the description does not fit, so neither of its pieces is confirmed by it.
+  for (int i = 0; i < 2; ++i) {
+    if (state.category[Idx(vertices[i] * k + described[i])] < category_floor && !named_before(vertices[i], described[i])) return;
+  }
   std::vector<double> target(Idx(k), 0.0);
-  target[Idx(d.located)] = 1.0;
-  DampedUpdate(&out.category[Idx(a * k)], target.data(), k, sigma);
-  target[Idx(d.located)] = 0.0;
-  target[Idx(d.reference)] = 1.0;
-  DampedUpdate(&out.category[Idx(b * k)], target.data(), k, sigma);
+  for (int i = 0; i < 2; ++i) {
+    double* row = &state.category[Idx(vertices[i] * k)];
+    target[Idx(described[i])] = 1.0;
+    DampedUpdate(row, target.data(), k, sigma);
+    target[Idx(described[i])] = 0.0;
+  }
+}
+
+GraphState ApplyMatch(const FurnitureGraph& graph, const GraphState& state, const Knowledge& knowledge,
+                      const Description& d, const Match& match, double sigma, double category_floor, bool categories,
+                      const std::vector<Match>& earlier) {
+  GraphState out = state;
+  const int b = graph.Reference(match.directed_edge);
+  if (categories) ApplyCategoryUpdate(graph, out, d, match, sigma, category_floor, earlier);
   Distribution4 relation{};
   relation[Idx(static_cast<int>(match.relative))] = 1.0;
   DampedUpdate(&out.relation[Idx(match.directed_edge * kRelationCount)], relation.data(), kRelationCount, sigma);
@@ -183,7 +204,10 @@ HypothesisSet Ground(const FurnitureGraph& graph, const Knowledge& knowledge, co
   HypothesisSet next;
   next.step = current.step + 1;
   next.next_id = current.next_id;
+  next.held = current.held;
   next.ranked.reserve(keep);
+  std::vector<std::uint32_t> parents;
+  parents.reserve(keep);
   for (std::size_t rank = 0; rank < keep; ++rank) {
     const Candidate& c = candidates[rank];
     const Hypothesis& parent = current.ranked[c.parent];
@@ -198,15 +222,31 @@ HypothesisSet Ground(const FurnitureGraph& graph, const Knowledge& knowledge, co
     m.relative = c.relative;
     m.scheme = c.scheme;
     m.score = c.step;
-    h.state = ApplyMatch(graph, parent.state, knowledge, d, m, params.sigma);
+    m.located_category = d.located;
+    m.reference_category = d.reference;
     h.matches = parent.matches;
     h.matches.push_back(m);
     h.lineage = parent.lineage;
     h.lineage.push_back(h.id);
     h.lineage_ranks = parent.lineage_ranks;
     h.lineage_ranks.push_back(static_cast<int>(rank));
+    parents.push_back(c.parent);
     next.ranked.push_back(std::move(h));
   }
+  // The matches decide whether this step is ambiguous before any state is updated (its categories are held back).
+  // A best reading that fits poorly is answered as such (its categories do not move anyway), not held as ambiguous.
+  const bool ambiguous = params.ambiguity_margin > 0.0 &&
+                         AlternativesAt(graph, next, current.step, params.ambiguity_margin, 2).size() > 1 &&
+                         !(params.category_floor > 0.0 && IsPoorMatch(graph, current.ranked[parents[0]].state, d,
+                                                                        next.ranked.front().matches.back(), params.category_floor));
+  if (ambiguous) next.held.push_back({current.step, d});
+  for (std::size_t rank = 0; rank < keep; ++rank) {
+    Hypothesis& h = next.ranked[rank];
+    const Hypothesis& parent = current.ranked[parents[rank]];
+    h.state = ApplyMatch(graph, parent.state, knowledge, d, h.matches.back(), params.sigma, params.category_floor, !ambiguous,
+                         parent.matches);
+  }
+  if (params.ambiguity_margin > 0.0) SettleClearSteps(graph, next, params);
   return next;
 }
 

@@ -64,11 +64,21 @@ struct Match {
   Relation relative = Relation::kLeftOf;  // r'
   Scheme scheme = Scheme::kStatistical;
   double score = 0.0;                     // S of this step
+  int located_category = -1;              // the categories the description named (-1: not recorded)
+  int reference_category = -1;
 };
 
-// The state after applying `match` of description `d` to `state` (eq. 5.4, 5.5).
+// The state after applying `match` of description `d` to `state` (eq. 5.4, 5.5). A poor match - a described
+// category below category_floor on its piece that no earlier match of the same hypothesis (`earlier`) named that
+// piece with - moves no p(f) at all: one poor match never moves a category belief, a confirmed one does (0 = the
+// thesis: always). `categories` = false holds the category half of the update
+// back (an ambiguous step).
 GraphState ApplyMatch(const FurnitureGraph& graph, const GraphState& state, const Knowledge& knowledge,
-                      const Description& d, const Match& match, double sigma);
+                      const Description& d, const Match& match, double sigma, double category_floor = 0.0,
+                      bool categories = true, const std::vector<Match>& earlier = {});
+// The category half of eq. 5.4 alone (what ApplyMatch holds back for an ambiguous step), in place.
+void ApplyCategoryUpdate(const FurnitureGraph& graph, GraphState& state, const Description& d, const Match& match,
+                         double sigma, double category_floor, const std::vector<Match>& earlier);
 
 struct Hypothesis {
   std::int64_t id = 0;                  // G0 = 0, then 1, 2, ... across steps (figure 5.8)
@@ -81,10 +91,18 @@ struct Hypothesis {
   std::vector<int> lineage_ranks;       // lineage_ranks[t]: its rank (0 = best) among the n kept at step t
 };
 
+// A description whose best interpretations disagreed about the pieces it means: its category update is held back in
+// every hypothesis until a later description or an explicit resolution settles it (engine/grounding/ambiguity.h).
+struct HeldStep {
+  int step = 0;  // 0-based index of the description (matches[step])
+  Description description;
+};
+
 struct HypothesisSet {
   int step = 0;                   // descriptions grounded so far
   std::int64_t next_id = 1;
   std::vector<Hypothesis> ranked;  // best first
+  std::vector<HeldStep> held;      // unsettled ambiguous steps, oldest first
 };
 
 struct GroundingParams {
@@ -92,6 +110,12 @@ struct GroundingParams {
   double sigma = 3.0;
   // Schemes tried from G0: {S, R, I} = adaptation; {S} = statistics only; {U} = uniform frame prior.
   std::vector<Scheme> schemes = {Scheme::kStatistical, Scheme::kRelative, Scheme::kIntrinsic};
+  // Ambiguity (engine/grounding/ambiguity.h). A step is ambiguous when a hypothesis matching the description to
+  // another pair of pieces has an accumulated score within ambiguity_margin of the best one; its category update
+  // is then held back. 0 = off (the thesis). Units: those of S (eq. 5.2), accumulated.
+  double ambiguity_margin = 0.0;
+  // A vertex's p(f) moves only towards a category it already holds with p >= category_floor (0 = the thesis).
+  double category_floor = 0.0;
 };
 
 // The set holding only G0, the graph as seen.

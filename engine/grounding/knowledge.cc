@@ -230,7 +230,9 @@ CategoryTable LoadCategoryTable(std::string_view json_text) {
     const std::string where = "categories[" + std::to_string(out.size()) + "]";
     if (!c.is_object() || !c.contains("id") || !c["id"].is_string()) Bad(where + " needs a string 'id'", where);
     for (const auto& [key, value] : c.items()) {
-      if (key != "id" && key != "name" && key != "nature" && key != "words") Bad(where + " has an unknown key '" + key + "'", where);
+      if (key != "id" && key != "name" && key != "nature" && key != "words" && key != "front") {
+        Bad(where + " has an unknown key '" + key + "'", where);
+      }
     }
     Category cat;
     cat.id = c["id"].get<std::string>();
@@ -247,7 +249,41 @@ CategoryTable LoadCategoryTable(std::string_view json_text) {
         cat.words.push_back(w.get<std::string>());
       }
     }
+    if (c.contains("front")) {
+      const Json& f = c["front"];
+      const std::string fw = where + ".front";
+      if (!f.is_object()) Bad(fw + " must be an object {rule, weight, reach_m, towards}", fw);
+      for (const auto& [key, value] : f.items()) {
+        if (key != "rule" && key != "weight" && key != "reach_m" && key != "towards") Bad(fw + " has an unknown key '" + key + "'", fw);
+      }
+      const std::string rule = f.contains("rule") && f["rule"].is_string() ? f["rule"].get<std::string>() : "";
+      if (rule == "back_to_wall") cat.front.rule = FrontRule::kBackToWall;
+      else if (rule == "face_piece") cat.front.rule = FrontRule::kFacePiece;
+      else if (rule == "face_room") cat.front.rule = FrontRule::kFaceRoom;
+      else if (rule == "none") cat.front.rule = FrontRule::kNone;
+      else Bad(fw + ".rule must be back_to_wall, face_piece, face_room or none", fw + ".rule");
+      const auto number = [&](const char* key, double fallback, double lo, double hi) {
+        if (!f.contains(key)) return fallback;
+        if (!f[key].is_number() || !(f[key].get<double>() >= lo && f[key].get<double>() <= hi)) {
+          Bad(fw + "." + key + " must be a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", fw + "." + key);
+        }
+        return f[key].get<double>();
+      };
+      cat.front.weight = number("weight", 0.0, 0.0, 1.0);
+      cat.front.reach_m = number("reach_m", 0.6, 0.0, 10.0);
+      if (f.contains("towards")) {
+        if (!f["towards"].is_string()) Bad(fw + ".towards must be a category id", fw + ".towards");
+        cat.front.towards = f["towards"].get<std::string>();
+      }
+      if (cat.front.rule == FrontRule::kFacePiece && cat.front.towards.empty()) Bad(fw + " (face_piece) needs 'towards'", fw + ".towards");
+    }
     out.push_back(std::move(cat));
+  }
+  for (const Category& c : out) {
+    if (c.front.rule != FrontRule::kFacePiece) continue;
+    if (std::none_of(out.begin(), out.end(), [&](const Category& o) { return o.id == c.front.towards; })) {
+      Bad("categories: '" + c.id + "' faces an unknown category '" + c.front.towards + "'", "categories");
+    }
   }
   return CategoryTable(std::move(out));
 }

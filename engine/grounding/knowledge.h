@@ -44,11 +44,23 @@ Relation IntrinsicToRelative(Relation word, Nature nature, Orientation o);
 // The inverse: the intrinsic word for a located object at relative position `relative`.
 Relation RelativeToIntrinsic(Relation relative, Nature nature, Orientation o);
 
+// Where a piece of a category tends to face in a room (issue 17; engine/grounding/orientation_prior.h): with its
+// back to the nearest wall, towards the nearest piece of another category (a chair at its table), into the room.
+enum class FrontRule : std::uint8_t { kNone = 0, kBackToWall = 1, kFacePiece = 2, kFaceRoom = 3 };
+
+struct FrontPrior {
+  FrontRule rule = FrontRule::kNone;
+  double weight = 0.0;     // share of p(o) the rule's direction gets; the rest is uniform (in [0, 1])
+  double reach_m = 0.6;    // a wall or piece farther than this from the footprint does not count [m]
+  std::string towards;     // kFacePiece: the category id faced ("table")
+};
+
 struct Category {
   std::string id;                  // "chest_of_drawers"
   std::string name;                // "chest of drawers": what the robot says
   Nature nature = Nature::kNone;
   std::vector<std::string> words;  // lowercase phrases a speaker may use
+  FrontPrior front;                // the initial p(o) of a piece of this category
 };
 
 class CategoryTable {

@@ -37,7 +37,11 @@ std::string ParamsDocument(const FurnitureGraphParams& p) {
               {"edge_max_gap_m", p.edge_max_gap_m},
               {"relation_sharpness", p.relation_sharpness},
               {"adaptation", p.adaptation},
-              {"frame_prior", p.frame_prior == FramePrior::kUniform ? "uniform" : "statistical"}}
+              {"frame_prior", p.frame_prior == FramePrior::kUniform ? "uniform" : "statistical"},
+              {"ambiguity_margin", p.ambiguity_margin},
+              {"category_floor", p.category_floor},
+              {"orientation_prior", p.orientation_prior == OrientationPrior::kRoom ? "room" : "uniform"},
+              {"occupancy_layer", p.occupancy_layer}}
       .dump();
 }
 
@@ -51,6 +55,11 @@ FurnitureGraphParams ParamsFromDocument(const std::string& text) {
   p.adaptation = j.at("adaptation").get<bool>();
   const std::string prior = j.at("frame_prior").get<std::string>();
   p.frame_prior = prior == "uniform" ? FramePrior::kUniform : FramePrior::kStatistical;
+  // Graphs stored before issue 17 keep the thesis' behaviour.
+  p.ambiguity_margin = j.value("ambiguity_margin", 0.0);
+  p.category_floor = j.value("category_floor", 0.0);
+  p.orientation_prior = j.value("orientation_prior", std::string("uniform")) == "room" ? OrientationPrior::kRoom : OrientationPrior::kUniform;
+  p.occupancy_layer = j.value("occupancy_layer", std::string());
   return p;
 }
 
@@ -61,8 +70,10 @@ std::string GraphDocument(const g::FurnitureGraph& graph) {
     const g::Vertex& v = graph.vertices[i];
     std::vector<double> pf(graph.initial.category.begin() + static_cast<std::ptrdiff_t>(i * k),
                            graph.initial.category.begin() + static_cast<std::ptrdiff_t>((i + 1) * k));
+    std::vector<double> po(graph.initial.orientation.begin() + static_cast<std::ptrdiff_t>(i * g::kOrientationCount),
+                           graph.initial.orientation.begin() + static_cast<std::ptrdiff_t>((i + 1) * g::kOrientationCount));
     vertices.push_back({{"id", v.id}, {"position", Vec(v.position_m)}, {"extent", Vec(v.extent_m)}, {"yaw_rad", v.yaw_rad},
-                        {"categories", pf}});
+                        {"categories", pf}, {"orientations", po}});
   }
   for (const g::Edge& e : graph.edges) {
     edges.push_back({{"a", e.a}, {"b", e.b}, {"gap_m", e.gap_m}, {"visual", {e.visual[0], e.visual[1]}}});
@@ -79,7 +90,11 @@ g::FurnitureGraph GraphFromDocument(const std::string& text) {
     const auto pf = v.at("categories").get<std::vector<double>>();
     if (static_cast<int>(pf.size()) != graph.category_count) throw Error(ErrorCode::kInternal, "stored graph is inconsistent");
     graph.initial.category.insert(graph.initial.category.end(), pf.begin(), pf.end());
-    for (int o = 0; o < g::kOrientationCount; ++o) graph.initial.orientation.push_back(1.0 / g::kOrientationCount);
+    // Graphs stored before issue 17 started from the uniform p(o) and do not store it.
+    const auto po = v.contains("orientations") ? v.at("orientations").get<std::vector<double>>()
+                                               : std::vector<double>(g::kOrientationCount, 1.0 / g::kOrientationCount);
+    if (po.size() != g::kOrientationCount) throw Error(ErrorCode::kInternal, "stored graph is inconsistent");
+    graph.initial.orientation.insert(graph.initial.orientation.end(), po.begin(), po.end());
   }
   for (const Json& e : j.at("edges")) {
     g::Edge edge;

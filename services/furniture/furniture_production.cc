@@ -9,6 +9,8 @@
 
 namespace anchordb::services {
 
+using furniture_detail::VertexOrNotFound;
+
 std::optional<Placement> FurnitureService::Place(const std::string& map, const Eigen::Vector3d& p_M,
                                                  std::optional<std::int64_t> graph_id) {
   if (!graph_id) graph_id = store_.Read([&](storage::Connection& c) { return storage::NewestFurnitureGraphId(c, map); });
@@ -33,9 +35,8 @@ std::optional<Placement> FurnitureService::Place(const std::string& map, const E
 Utterance FurnitureService::Produce(const std::string& map, std::int64_t id, const ProduceRequest& request) {
   auto graph = Acquire(map, id);
   std::lock_guard<std::mutex> lock(graph->mutex);
-  const int a = graph->graph.VertexIndex(request.located), b = graph->graph.VertexIndex(request.reference);
-  if (a < 0) throw Error(ErrorCode::kNotFound, "the graph has no vertex '" + request.located + "'", "located");
-  if (b < 0) throw Error(ErrorCode::kNotFound, "the graph has no vertex '" + request.reference + "'", "reference");
+  const int a = VertexOrNotFound(graph->graph, request.located, "located");
+  const int b = VertexOrNotFound(graph->graph, request.reference, "reference");
   if (a == b) throw Error(ErrorCode::kUnprocessable, "located and reference are the same vertex", "reference");
   const g::Production p = g::Produce(graph->graph, graph->knowledge, graph->set.ranked.front(), a, b);
   const auto& cats = graph->knowledge.categories;

@@ -50,6 +50,12 @@ FurnitureGraphParams ResolveParams(const GraphParamsRequest& r, const FurnitureS
   CheckRange(p.relation_sharpness, 0.0, 100.0, "relation_sharpness");
   p.adaptation = r.adaptation.value_or(true);
   p.frame_prior = r.frame_prior.value_or(FramePrior::kStatistical);
+  p.ambiguity_margin = r.ambiguity_margin.value_or(s.ambiguity_margin);
+  CheckRange(p.ambiguity_margin, 0.0, 10.0, "ambiguity_margin");
+  p.category_floor = r.category_floor.value_or(s.category_floor);
+  CheckRange(p.category_floor, 0.0, 1.0, "category_floor");
+  p.orientation_prior = r.orientation_prior.value_or(OrientationPrior::kRoom);
+  p.occupancy_layer = r.occupancy_layer.value_or("");
   return p;
 }
 
@@ -58,6 +64,8 @@ g::GroundingParams GroundingParamsOf(const FurnitureGraphParams& params) {
   p.n_best = params.n_best;
   p.sigma = params.sigma;
   p.schemes = g::SchemesToTry(params.adaptation, params.frame_prior == FramePrior::kUniform);
+  p.ambiguity_margin = params.ambiguity_margin;
+  p.category_floor = params.category_floor;
   return p;
 }
 

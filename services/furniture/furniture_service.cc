@@ -1,6 +1,10 @@
 #include "services/furniture/furniture_service.h"
 
+#include <algorithm>
+
 #include "services/furniture/furniture_service_internal.h"
+#include "engine/grounding/ambiguity.h"
+#include "engine/grounding/orientation_prior.h"
 #include "engine/grounding/readings.h"
 #include "storage/hypotheses_codec.h"
 #include "storage/repositories.h"
@@ -13,7 +17,15 @@ namespace {
 
 Error NoMap(const std::string& map) { return Error(ErrorCode::kNotFound, "map '" + map + "' does not exist", "map"); }
 
-MatchView MatchOf(const g::FurnitureGraph& graph, const g::Match& m) {
+}  // namespace
+
+int furniture_detail::VertexOrNotFound(const g::FurnitureGraph& graph, const std::string& id, const char* field) {
+  const int v = graph.VertexIndex(id);
+  if (v < 0) throw Error(ErrorCode::kNotFound, "the graph has no vertex '" + id + "'", field);
+  return v;
+}
+
+MatchView furniture_detail::MatchOf(const g::FurnitureGraph& graph, const g::Match& m) {
   MatchView out;
   out.located = graph.vertices[static_cast<std::size_t>(graph.Located(m.directed_edge))].id;
   out.reference = graph.vertices[static_cast<std::size_t>(graph.Reference(m.directed_edge))].id;
@@ -24,6 +36,8 @@ MatchView MatchOf(const g::FurnitureGraph& graph, const g::Match& m) {
   if (out.frame == g::Frame::kIntrinsic) out.reference_front = g::OrientationOf(m.interpretation);
   return out;
 }
+
+namespace {
 
 BestHypothesis BestOf(const g::Hypothesis& h) { return {h.id, h.scheme, h.score}; }
 
@@ -46,6 +60,11 @@ GraphView FurnitureService::Create(const std::string& map, const CreateGraphRequ
   const auto furniture = ResolveFurniture(request.furniture, graph->knowledge.categories, settings_.max_furniture);
   graph->graph = g::BuildFurnitureGraph(graph->viewpoint, furniture, graph->knowledge.categories.size(),
                                         g::GraphParams{graph->params.edge_max_gap_m, graph->params.relation_sharpness});
+  if (graph->params.orientation_prior == OrientationPrior::kRoom) {
+    const auto occupancy = OccupancyOf(store_, map, graph->params.occupancy_layer);
+    graph->graph.initial.orientation = g::RoomOrientationPrior(graph->viewpoint, furniture, graph->knowledge.categories,
+                                                               g::RoomLayout{occupancy ? &*occupancy : nullptr, {}});
+  }
   graph->set = g::InitialHypotheses(graph->graph);
   storage::FurnitureGraphRecord& r = graph->record;
   r.map_id = map;
@@ -147,6 +166,7 @@ GraphView FurnitureService::View(const Graph& gr, const std::vector<storage::Gra
       item.understood = Understood{descriptions[t].located, descriptions[t].relation, descriptions[t].reference, std::nullopt};
     }
   }
+  out.pending = PendingOf(gr);
   return out;
 }
 
@@ -176,7 +196,10 @@ GroundingResult FurnitureService::Describe(const std::string& map, std::int64_t 
   const g::Description& d = resolved.description;
 
   std::lock_guard<std::mutex> lock(graph->mutex);
-  g::HypothesisSet next = g::Ground(graph->graph, graph->knowledge, graph->set, d, GroundingParamsOf(graph->params));
+  const g::GroundingParams params = GroundingParamsOf(graph->params);
+  std::vector<int> held_before;
+  for (const g::HeldStep& h : graph->set.held) held_before.push_back(h.step);
+  g::HypothesisSet next = g::Ground(graph->graph, graph->knowledge, graph->set, d, params);
   const std::string blob = storage::EncodeHypotheses(graph->graph, next);
   const std::int64_t now = clock_.NowNs();
   store_.Write([&](storage::Connection& c) {
@@ -199,7 +222,39 @@ GroundingResult FurnitureService::Describe(const std::string& map, std::int64_t 
   out.revised = g::IsRevised(best);
   for (const g::Match& m : best.matches) out.groundings.push_back(MatchOf(graph->graph, m));
   out.hypotheses = graph->set.ranked.size();
+  const int step = graph->set.step - 1;
+  const auto is_held = [&](int t) {
+    return std::any_of(graph->set.held.begin(), graph->set.held.end(), [t](const g::HeldStep& h) { return h.step == t; });
+  };
+  const bool ambiguous = is_held(step);
+  const bool poor = params.category_floor > 0.0 && g::IsPoorMatch(graph->graph, best.state, d, best.matches.back(), params.category_floor);
+  if (ambiguous || poor) out.ambiguity = AmbiguityOf(*graph, step, d, ambiguous, poor);
+  for (const int t : held_before) {
+    if (!is_held(t)) out.settled.push_back(t + 1);
+  }
   return out;
+}
+
+GraphView FurnitureService::Resolve(const std::string& map, std::int64_t id, const ResolveRequest& request) {
+  auto graph = Acquire(map, id);
+  std::lock_guard<std::mutex> lock(graph->mutex);
+  const int a = VertexOrNotFound(graph->graph, request.located, "located");
+  const int b = VertexOrNotFound(graph->graph, request.reference, "reference");
+  if (graph->set.held.empty()) throw Error(ErrorCode::kConflict, "no description of this graph is awaiting a resolution", "seq");
+  const std::int64_t seq = request.seq.value_or(graph->set.held.front().step + 1);
+  if (seq < 1 || seq > graph->set.step) throw Error(ErrorCode::kUnprocessable, "seq must name a grounded description", "seq");
+  g::HypothesisSet next = graph->set;
+  g::KeepPair(graph->graph, next, static_cast<int>(seq - 1), a, b, graph->params.sigma, graph->params.category_floor);
+  const std::string blob = storage::EncodeHypotheses(graph->graph, next);
+  const std::int64_t now = clock_.NowNs();
+  store_.Write([&](storage::Connection& c) {
+    storage::UpdateFurnitureGraphState(c, id, next.step, blob, now, graph->record.state_version);
+  });
+  graph->record.state_version += 1;
+  graph->record.updated_ns = now;
+  graph->set = std::move(next);
+  const auto descriptions = store_.Read([&](storage::Connection& c) { return storage::ListGraphDescriptions(c, id); });
+  return View(*graph, descriptions);
 }
 
 HypothesisList FurnitureService::Hypotheses(const std::string& map, std::int64_t id, int limit) {

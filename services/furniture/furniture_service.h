@@ -29,6 +29,8 @@ struct FurnitureSettings {
   double sigma = 3.0;                // damping of eq. 5.4 (>= 1; 1 = the description replaces the belief)
   double edge_max_gap_m = 1.5;       // pieces closer than this share an edge [m]
   double relation_sharpness = 3.0;   // kappa of the initial p(r) by angle
+  double ambiguity_margin = 0.02;    // default of params.ambiguity_margin (units of S, eq. 5.2)
+  double category_floor = 0.05;      // default of params.category_floor (half the chance level of the 10 default categories)
   int max_furniture = 64;            // pieces per graph
   std::size_t max_text_length = 500; // characters of a spoken description
   // The grounding knowledge document ({"categories": ..., "frame_prior": ...}, either may be missing); empty = the
@@ -52,6 +54,9 @@ class FurnitureService {
   GroundingResult Describe(const std::string& map, std::int64_t id, const DescriptionRequest& request);
   // The live hypotheses, best first, at most `limit`.
   HypothesisList Hypotheses(const std::string& map, std::int64_t id, int limit);
+  // Settles a held description by naming its pieces. Unknown vertex kNotFound; no held description (or `seq` not
+  // held) kConflict; no live reading of the description with that pair kUnprocessable. Nothing changes on error.
+  GraphView Resolve(const std::string& map, std::int64_t id, const ResolveRequest& request);
   // Forgets the descriptions: back to G0.
   GraphView Reset(const std::string& map, std::int64_t id);
   // Speech production: unknown vertex kNotFound; two pieces without an edge or the same piece kUnprocessable.
@@ -66,8 +71,10 @@ class FurnitureService {
   // The knowledge document new graphs are created with, serialised (JSON text as stored with each graph).
   const std::string& knowledge_json() const { return knowledge_json_; }
 
- private:
+  // A graph's in-memory state (services/furniture/furniture_service_internal.h).
   struct Graph;
+
+ private:
   std::shared_ptr<Graph> Acquire(const std::string& map, std::int64_t id);
   GraphView View(const Graph& g, const std::vector<storage::GraphDescriptionRecord>& descriptions) const;
 

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/grid/grid.h"
 #include "services/furniture/furniture_service.h"
 #include "schema/error.h"
 
@@ -25,6 +26,16 @@ struct ResolvedDescription {
   Understood understood;
 };
 ResolvedDescription ResolveDescription(const DescriptionRequest& request, const g::CategoryTable& table);
+
+// The occupancy grid of layer `layer` of `map` for the room's orientation prior; nullopt when `layer` is empty.
+// Unknown layer kNotFound, a layer of another kind kUnprocessable (furniture_room.cc).
+std::optional<engine::OccupancyGrid> OccupancyOf(storage::Store& store, const std::string& map, const std::string& layer);
+
+// The vertex with id `id` (a pair's `field`, "located" or "reference"); kNotFound naming the field otherwise.
+int VertexOrNotFound(const g::FurnitureGraph& graph, const std::string& id, const char* field);
+
+// A match of the engine in the terms a client is told (furniture_service.cc).
+MatchView MatchOf(const g::FurnitureGraph& graph, const g::Match& m);
 
 // The stored form (furniture_graph_json.cc), as the database keeps it.
 std::string ViewpointDocument(const g::Viewpoint& v);
@@ -51,5 +62,12 @@ struct FurnitureService::Graph {
   g::Viewpoint viewpoint;
   g::HypothesisSet set;
 };
+
+namespace furniture_detail {
+// The competing readings of description `step` and the question to ask back (furniture_ambiguity.cc).
+AmbiguityView AmbiguityOf(const FurnitureService::Graph& graph, int step, const g::Description& d, bool ambiguous, bool poor);
+// The pending (held) descriptions of the graph's live set.
+std::vector<AmbiguityView> PendingOf(const FurnitureService::Graph& graph);
+}  // namespace furniture_detail
 
 }  // namespace anchordb::services

@@ -11,6 +11,10 @@ void BindFurnitureSettings(SettingsBinder& b, FurnitureSettings& f) {
          &f.edge_max_gap_m, 0, 100);
   b.Bind("grounding_relation_sharpness", "kappa of the initial relation distribution p(r) ∝ exp(kappa cos(angle))",
          &f.relation_sharpness, 0, 100);
+  b.Bind("grounding_ambiguity_margin", "a description is ambiguous (its category update held back until resolved) when a "
+         "reading of other pieces is within this much accumulated score (eq. 5.2) of the best; 0 = off", &f.ambiguity_margin, 0, 10);
+  b.Bind("grounding_category_floor", "a description moves a piece's p(f) only towards a category the piece already holds "
+         "with at least this probability (0.05 = half the chance level of 10 categories; a second description naming the piece so confirms; 0 = always, the thesis)", &f.category_floor, 0, 1);
   b.Bind("grounding_max_furniture", "most furniture pieces in one furniture graph", &f.max_furniture, 2, 1000);
 }
 

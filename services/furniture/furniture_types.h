@@ -15,6 +15,8 @@
 namespace anchordb::services {
 
 enum class FramePrior { kStatistical, kUniform };
+// The initial p(o): from the room (engine/grounding/orientation_prior.h) or uniform (the thesis).
+enum class OrientationPrior { kRoom, kUniform };
 
 // The parameters a graph was created with (defaults: FurnitureSettings).
 struct FurnitureGraphParams {
@@ -24,6 +26,13 @@ struct FurnitureGraphParams {
   double relation_sharpness = 3.0;  // kappa of the initial p(r)
   bool adaptation = true;           // also the relative- and intrinsic-preferring schemes (5.3.4)
   FramePrior frame_prior = FramePrior::kStatistical;
+  // Ambiguity (engine/grounding/ambiguity.h): readings of other pieces within this much accumulated score of the
+  // best make a description ambiguous and hold its category update back; 0 = off (graphs stored before issue 17).
+  double ambiguity_margin = 0.0;
+  // A piece's p(f) moves only towards a category it holds with at least this probability; 0 = always.
+  double category_floor = 0.0;
+  OrientationPrior orientation_prior = OrientationPrior::kUniform;  // graphs stored before issue 17: uniform
+  std::string occupancy_layer;  // the map's occupancy layer the room prior finds walls in ("" = none)
 };
 
 // Requested parameters; an unset one takes the service's setting. Out of range: Error(kUnprocessable) naming
@@ -35,6 +44,10 @@ struct GraphParamsRequest {
   std::optional<double> relation_sharpness;  // [0, 100]
   std::optional<bool> adaptation;
   std::optional<FramePrior> frame_prior;
+  std::optional<double> ambiguity_margin;  // [0, 10]
+  std::optional<double> category_floor;    // [0, 1]
+  std::optional<OrientationPrior> orientation_prior;  // default kRoom
+  std::optional<std::string> occupancy_layer;         // an occupancy layer of the map; unknown: kNotFound
 };
 
 // A category word (or id) of the knowledge table and its weight (>= 0; the weights of a piece are normalised).
@@ -119,6 +132,28 @@ struct GroundedDescription {
   std::optional<Understood> understood;
 };
 
+// A competing reading of an ambiguous (or poorly fitting) description.
+struct AlternativeView {
+  MatchView match;
+  double total = 0.0;  // accumulated score of the best hypothesis reading it so
+  std::string phrase;  // how the robot tells this reading's piece apart: "the table to the left of the sofa"
+};
+
+// A description the memory is not sure about: its competing readings and the question the dialog can ask back.
+struct AmbiguityView {
+  int seq = 0;              // the description (1 = the first)
+  bool ambiguous = false;   // readings of different pieces are within the margin: its category update is held back
+  bool poor = false;        // the best reading names a category its piece holds below category_floor
+  std::vector<AlternativeView> alternatives;  // best first
+  std::string question;     // "do you mean the table to the left of the sofa or the table behind the shelf?"
+};
+
+// An explicit answer to a question: which pieces description `seq` meant (the oldest held one when absent).
+struct ResolveRequest {
+  std::optional<std::int64_t> seq;
+  std::string located, reference;  // vertex ids
+};
+
 struct BestHypothesis {
   std::int64_t hypothesis = 0;
   std::optional<engine::grounding::Scheme> scheme;  // none for G0
@@ -138,6 +173,7 @@ struct GraphView {
   std::vector<VertexView> vertices;
   std::vector<EdgeView> edges;
   std::vector<GroundedDescription> groundings;  // the best sequence, oldest first
+  std::vector<AmbiguityView> pending;            // held (ambiguous) descriptions awaiting a resolution, oldest first
 };
 
 struct GraphSummary {
@@ -158,6 +194,8 @@ struct GroundingResult {
   bool revised = false;             // the best sequence left the previous best (figures 5.9-5.10)
   std::vector<MatchView> groundings;
   std::size_t hypotheses = 0;
+  std::optional<AmbiguityView> ambiguity;  // when this description is ambiguous or fits poorly
+  std::vector<int> settled;                // earlier held descriptions (seq) this one settled
 };
 
 struct VertexLabel {

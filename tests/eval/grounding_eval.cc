@@ -1,4 +1,5 @@
 #include "tests/eval/grounding_eval.h"
+#include "tests/eval/seeded_rng.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,21 +12,7 @@ using namespace engine::grounding;
 
 namespace {
 
-// Seeded, platform-independent draws.
-class Rng {
- public:
-  explicit Rng(std::uint64_t seed) : engine_(seed) {}
-  double Uniform(double lo, double hi) { return lo + (hi - lo) * static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
-  int Below(int n) { return static_cast<int>(engine_() % static_cast<std::uint64_t>(n)); }
-  bool Chance(double p) { return Uniform(0.0, 1.0) < p; }
-  template <typename T>
-  void Shuffle(std::vector<T>& v) {
-    for (std::size_t i = v.size(); i > 1; --i) std::swap(v[i - 1], v[static_cast<std::size_t>(Below(static_cast<int>(i)))]);
-  }
-
- private:
-  std::mt19937_64 engine_;
-};
+using Rng = SeededRng;
 
 constexpr double kSpacingM = 1.7;          // grid spacing, across and along the line of sight
 constexpr double kFirstRowM = 2.0;         // distance of the nearest row from the viewer
@@ -203,6 +190,8 @@ TrialResult RunTrial(const Participant& p, Quality q, Condition c, const Knowled
   GroundingParams params;
   params.n_best = options.n_best;
   params.sigma = options.sigma;
+  params.ambiguity_margin = options.ambiguity_margin;
+  params.category_floor = options.category_floor;
   switch (c) {
     case Condition::kAdaptation: params.schemes = {Scheme::kStatistical, Scheme::kRelative, Scheme::kIntrinsic}; break;
     case Condition::kNoAdaptation: params.schemes = {Scheme::kStatistical}; break;
@@ -215,6 +204,12 @@ TrialResult RunTrial(const Participant& p, Quality q, Condition c, const Knowled
                         p.pieces[static_cast<std::size_t>(td.reference)].category};
     set = Ground(graph, knowledge, set, d, params);
     r.intrinsic_descriptions += td.frame == Frame::kIntrinsic && td.frames_differ;
+    const int step = set.step - 1;
+    const bool held = std::any_of(set.held.begin(), set.held.end(), [&](const HeldStep& h) { return h.step == step; });
+    const bool wrong = set.ranked.front().matches.back().directed_edge != graph.FindDirected(td.located, td.reference);
+    r.held += held;
+    r.held_wrong += held && wrong;
+    r.unheld_wrong += !held && wrong;
   }
   const Hypothesis& best = set.ranked.front();
   r.descriptions = static_cast<int>(p.descriptions.size());
@@ -259,6 +254,9 @@ void Tally::Add(const TrialResult& r) {
     misclassified_corrected += r.misclassified_right;
   }
   worst_rank_reverted = std::max(worst_rank_reverted, r.worst_rank_reverted);
+  held += r.held;
+  held_wrong += r.held_wrong;
+  unheld_wrong += r.unheld_wrong;
 }
 
 Tally Evaluation::Over(Quality q, Condition c) const {
@@ -275,6 +273,9 @@ Tally Evaluation::Over(Quality q, Condition c) const {
     all.misclassified += t.misclassified;
     all.misclassified_corrected += t.misclassified_corrected;
     all.worst_rank_reverted = std::max(all.worst_rank_reverted, t.worst_rank_reverted);
+    all.held += t.held;
+    all.held_wrong += t.held_wrong;
+    all.unheld_wrong += t.unheld_wrong;
   }
   return all;
 }

@@ -69,11 +69,16 @@ struct TrialResult {
   bool misclassified_wrong_at_start = false;
   int worst_rank_reverted = 0;  // largest rank (1 = best) among the final best hypothesis' ancestors
   int intrinsic_descriptions = 0;  // descriptions spoken in the intrinsic frame where the frames differ
+  int held = 0;                 // descriptions found ambiguous when grounded (issue 17)
+  int held_wrong = 0;           // of those, the best match at that moment was not the intended pair
+  int unheld_wrong = 0;         // descriptions not held whose best match at that moment was not the intended pair
 };
 
 struct EvalOptions {
   int n_best = 100;
   double sigma = 3.0;
+  double ambiguity_margin = 0.0;  // issue 17 (0 = the thesis' model)
+  double category_floor = 0.0;
 };
 
 TrialResult RunTrial(const Participant& p, Quality q, Condition c, const engine::grounding::Knowledge& knowledge,
@@ -86,6 +91,7 @@ struct Tally {
   long fronted = 0, orientations_right = 0;
   long misclassified = 0, misclassified_corrected = 0;  // over trials whose misclassified piece started wrong
   int worst_rank_reverted = 0;
+  long held = 0, held_wrong = 0, unheld_wrong = 0;
   void Add(const TrialResult& r);
   double DescriptionRate() const { return descriptions ? double(descriptions_correct) / descriptions : 0.0; }
   double SequenceRate() const { return sequences ? double(sequences_correct) / sequences : 0.0; }

@@ -1,5 +1,5 @@
 // Prints the grounding evaluation (thesis 5.4.2 with synthetic participants) beside the thesis' figures.
-//   anchordb_eval_grounding [--participants N] [--seed S] [--n N] [--sigma S]
+//   anchordb_eval_grounding [--participants N] [--seed S] [--n N] [--sigma S] [--margin M] [--floor F]
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -17,6 +17,8 @@ int main(int argc, char** argv) {
     else if (std::strcmp(argv[i], "--seed") == 0) seed = std::strtoull(argv[i + 1], nullptr, 10);
     else if (std::strcmp(argv[i], "--n") == 0) options.n_best = std::atoi(argv[i + 1]);
     else if (std::strcmp(argv[i], "--sigma") == 0) options.sigma = std::atof(argv[i + 1]);
+    else if (std::strcmp(argv[i], "--margin") == 0) options.ambiguity_margin = std::atof(argv[i + 1]);
+    else if (std::strcmp(argv[i], "--floor") == 0) options.category_floor = std::atof(argv[i + 1]);
     else {
       std::fprintf(stderr, "unknown option %s\n", argv[i]);
       return 2;
@@ -75,6 +77,12 @@ int main(int argc, char** argv) {
   int worst = 0;
   for (int q = 0; q < 3; ++q) {
     for (int c = 0; c < 3; ++c) worst = std::max(worst, e.Over(static_cast<eval::Quality>(q), static_cast<eval::Condition>(c)).worst_rank_reverted);
+  }
+  for (int q = 0; q < 3; ++q) {
+    const eval::Tally t = e.Over(static_cast<eval::Quality>(q), eval::Condition::kAdaptation);
+    std::printf("quality %s, adaptation: %ld of %ld descriptions held as ambiguous (%ld of them wrongly matched at that "
+                "moment); %ld wrongly matched and not held\n", eval::QualityName(static_cast<eval::Quality>(q)), t.held,
+                t.descriptions, t.held_wrong, t.unheld_wrong);
   }
   std::printf("deepest reversion: the final best sequence passed through a hypothesis ranked %d (thesis: 60th-70th seen)\n", worst);
   return 0;

@@ -13,6 +13,34 @@ const Evaluation& Seeded() {
   return kEvaluation;
 }
 
+// The service's defaults since issue 17: ambiguous descriptions held, poor matches move no category.
+EvalOptions ServiceDefaults() {
+  EvalOptions o;
+  o.ambiguity_margin = 0.02;
+  o.category_floor = 0.05;
+  return o;
+}
+
+const Evaluation& SeededWithAmbiguity() {
+  static const Evaluation kEvaluation = Evaluate(30, 1, ServiceDefaults());
+  return kEvaluation;
+}
+
+TEST(GroundingEvalTest, IssueFiveBarsHoldWithAmbiguityHeldAndTheCategoryFloor) {
+  const Tally a = SeededWithAmbiguity().Over(Quality::kA, Condition::kAdaptation);
+  const Tally b = SeededWithAmbiguity().Over(Quality::kB, Condition::kAdaptation);
+  RecordProperty("descriptions_correct_A", std::to_string(a.DescriptionRate()));
+  RecordProperty("corrected_B", std::to_string(b.CorrectedRate()));
+  EXPECT_GE(a.DescriptionRate(), 0.92);
+  EXPECT_GE(a.SequenceRate(), 0.67);
+  EXPECT_LT(1.0 - a.VertexRate(), 0.03);
+  EXPECT_GE(b.CorrectedRate(), 0.85);
+  EXPECT_LT(1.0 - b.VertexRate(), 0.03);
+  // Asking back is worth it: most held descriptions were matched wrongly at that moment.
+  EXPECT_GT(a.held, 0);
+  EXPECT_GE(2 * a.held_wrong, a.held);
+}
+
 TEST(GroundingEvalTest, AdaptationAtQualityAReachesTheThesis) {
   const Tally t = Seeded().Over(Quality::kA, Condition::kAdaptation);
   RecordProperty("descriptions_correct", std::to_string(t.DescriptionRate()));

@@ -40,5 +40,25 @@ TEST(HypothesesCodec, RoundTripsAndRejectsCorruption) {
   EXPECT_THROW(DecodeHypotheses(graph, ""), Error);
 }
 
+TEST(HypothesesCodec, HeldStepsAndDescribedCategoriesRoundTrip) {
+  const std::vector<double> pf(10, 0.1);
+  const g::FurnitureGraph graph = g::BuildFurnitureGraph(
+      {{0, 0}, 0}, {{"a", {2, 0}, {0.5, 0.5}, 0, pf}, {"b", {2, 1}, {0.5, 0.5}, 0, pf}, {"c", {3, 0}, {0.5, 0.5}, 0, pf}}, 10, {});
+  const g::GroundingParams params;
+  g::HypothesisSet set = g::Ground(graph, g::DefaultKnowledge(), g::InitialHypotheses(graph), {0, g::Relation::kLeftOf, 1}, params);
+  set.held.push_back({0, {0, g::Relation::kLeftOf, 1}});  // as an ambiguous step leaves it
+  const g::HypothesisSet back = DecodeHypotheses(graph, EncodeHypotheses(graph, set));
+  ASSERT_EQ(back.held.size(), 1u);
+  EXPECT_EQ(back.held[0].step, 0);
+  EXPECT_EQ(back.held[0].description.located, 0);
+  EXPECT_EQ(back.held[0].description.relation, g::Relation::kLeftOf);
+  EXPECT_EQ(back.held[0].description.reference, 1);
+  ASSERT_EQ(back.ranked.size(), set.ranked.size());
+  for (const g::Hypothesis& h : back.ranked) {
+    EXPECT_EQ(h.matches[0].located_category, 0);
+    EXPECT_EQ(h.matches[0].reference_category, 1);
+  }
+}
+
 }  // namespace
 }  // namespace anchordb::storage
