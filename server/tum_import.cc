@@ -255,9 +255,13 @@ void ImportTum(const Config& config, const TumImportOptions& o, std::ostream& ou
 
 int ImportTumCommand(const std::vector<std::string>& args, const std::map<std::string, std::string>& environment) {
   TumImportOptions o;
-  std::string every, max_frames, camera, fx, fy, cx, cy, scale, max_dt;
+  std::string every, max_frames, camera, fx, fy, cx, cy, scale, max_dt, db;
   std::vector<std::string> rest;
   for (std::size_t i = 0; i < args.size(); ++i) {
+    if (TakeOption(args, i, "--db", db)) {  // settings take --db=FILE only; the import also takes --db FILE
+      rest.push_back("--db=" + db);
+      continue;
+    }
     if (TakeOption(args, i, "--dir", o.dir) || TakeOption(args, i, "--map", o.map) ||
         TakeOption(args, i, "--every", every) || TakeOption(args, i, "--max-frames", max_frames) ||
         TakeOption(args, i, "--camera", camera) || TakeOption(args, i, "--fx", fx) || TakeOption(args, i, "--fy", fy) ||
