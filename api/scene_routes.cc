@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "api/octomap_json.h"
 #include "api/route_params.h"
 #include "api/scene_json.h"
 #include "schema/error.h"
@@ -110,6 +111,15 @@ void RegisterSceneRoutes(Router& router, SceneService& s) {
         if (format == "json") return SummaryResponse(s.LayerSummary(p["map"], SceneId(p), layer, clean));
         const auto encoding = format == "png" ? SceneLayerEncoding::kPng : SceneLayerEncoding::kRaw;
         return BytesResponse(s.Layer(p["map"], SceneId(p), layer, encoding, clean));
+      });
+  router.Add("GET", "/v1/maps/{map}/scenes/{scene}/cloud", Role::kReader,
+      "A scene layer as a point cloud: layer=static|movable (movable pixels at the latest frame's depth), "
+      "frame=map|camera, format=pcd|pcd_ascii|pcd_binary|pcd_binary_compressed|ply|ply_ascii|ply_binary",
+      [&s](const httplib::Request& req, const PathParams& p) {
+        const std::string layer = QueryChoice(req, "layer", {"static", "movable"}).value_or("static");
+        const std::string frame = QueryChoice(req, "frame", {"map", "camera"}).value_or("map");
+        return BytesResponse(s.LayerCloud(p["map"], SceneId(p), *ValueOf(kSceneLayerNames, layer), frame == "map",
+                                          octomap_json::ParseCloudFormat(Query(req, "format").value_or("pcd"))));
       });
   router.Add("POST", "/v1/maps/{map}/scenes/{scene}/keyframes", Role::kWriter, "Store a keyframe of the scene now (its change analysis is queued; wait_for_analysis=true waits for it)",
       [&s](const httplib::Request& req, const PathParams& p) {

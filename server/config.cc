@@ -127,4 +127,27 @@ std::string SettingsHelp() {
   return out;
 }
 
+storage::StoreOptions StoreOptionsOf(const ServerOptions& c) {
+  storage::StoreOptions o;
+  o.path = c.db;
+  o.connection.busy_timeout_ms = c.busy_timeout_ms;
+  o.connection.synchronous = c.synchronous;
+  o.reader_connections = c.reader_connections;
+  return o;
+}
+
+bool TakeOption(const std::vector<std::string>& args, std::size_t& i, const std::string& name, std::string& value) {
+  const std::string& a = args[i];
+  if (a == name) {
+    if (i + 1 >= args.size()) throw std::invalid_argument(name + " needs a value");
+    value = args[++i];
+    return true;
+  }
+  if (a.rfind(name + "=", 0) == 0) {
+    value = a.substr(name.size() + 1);
+    return true;
+  }
+  return false;
+}
+
 }  // namespace anchordb::server

@@ -12,6 +12,7 @@
 
 #include "schema/settings.h"
 #include "services/capabilities.h"
+#include "storage/store.h"
 
 namespace anchordb::server {
 
@@ -55,5 +56,12 @@ nlohmann::json SettingsJson(const Config& config);
 std::string SettingsHelp();
 
 bool IsLoopback(const std::string& bind);
+
+// The store options of the server's settings (path, busy timeout, synchronous, reader connections).
+storage::StoreOptions StoreOptionsOf(const ServerOptions& c);
+
+// A subcommand's own option `name` at args[i], as "--name VALUE" (i moves past the value) or "--name=VALUE".
+// Throws std::invalid_argument when the value is missing.
+bool TakeOption(const std::vector<std::string>& args, std::size_t& i, const std::string& name, std::string& value);
 
 }  // namespace anchordb::server

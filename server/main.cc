@@ -1,4 +1,4 @@
-// anchordb: the spatial memory server. Subcommands: serve, token create, forget, backup, version.
+// anchordb: the spatial memory server. Subcommands: serve, token create, forget, backup, import tum, version.
 #include <malloc.h>
 #include <signal.h>
 
@@ -19,6 +19,7 @@
 #include "server/auth.h"
 #include "server/config.h"
 #include "server/http_serving.h"
+#include "server/tum_import.h"
 #include "services/audit/audit_service.h"
 #include "services/jobs/forget_job.h"
 #include "storage/backup.h"
@@ -60,15 +61,6 @@ std::string BackupDir(const ServerOptions& c) {
   const std::filesystem::path dir = c.backup_dir.empty() ? std::filesystem::path(c.db).parent_path() / "backups"
                                                          : std::filesystem::path(c.backup_dir);
   return std::filesystem::absolute(dir).lexically_normal().string();
-}
-
-storage::StoreOptions StoreOptionsOf(const ServerOptions& c) {
-  storage::StoreOptions o;
-  o.path = c.db;
-  o.connection.busy_timeout_ms = c.busy_timeout_ms;
-  o.connection.synchronous = c.synchronous;
-  o.reader_connections = c.reader_connections;
-  return o;
 }
 
 int Serve(const Config& config) {
@@ -183,21 +175,6 @@ int Serve(const Config& config) {
   return ok ? 0 : 1;
 }
 
-// A subcommand's own option `name` at args[i], as "--name VALUE" (i moves past the value) or "--name=VALUE".
-bool TakeOption(const std::vector<std::string>& args, std::size_t& i, const std::string& name, std::string& value) {
-  const std::string& a = args[i];
-  if (a == name) {
-    if (i + 1 >= args.size()) throw std::invalid_argument(name + " needs a value");
-    value = args[++i];
-    return true;
-  }
-  if (a.rfind(name + "=", 0) == 0) {
-    value = a.substr(name.size() + 1);
-    return true;
-  }
-  return false;
-}
-
 // anchordb backup --db FILE [--out FILE | --label ID]: an online copy of the database (the server may be running
 // and writing); prints the report as JSON. Bad input: exit 2.
 // The audit entry of an admin action taken on the command line (SPEC §8), after the action.
@@ -281,6 +258,8 @@ void Usage() {
                "  anchordb token create --role reader|writer|admin [--db file]\n"
                "  anchordb forget --db file --map ID [--policy JSON] [--dry-run] [--vacuum]\n"
                "  anchordb backup --db file [--out file | --label ID]\n"
+               "  anchordb import tum --db file --map ID --dir SEQUENCE [--every N] [--max-frames N] [--camera fr1|fr2|fr3]\n"
+               "                      [--fx F --fy F --cx C --cy C] [--depth-scale 5000] [--max-dt 0.02] [--merge]\n"
                "  anchordb version\n\nsettings (also ANCHORDB_<NAME> environment variables):\n"
             << SettingsHelp();
 }
@@ -304,6 +283,9 @@ int Main(int argc, char** argv) {
       return Serve(LoadConfig(rest, Environment()));
     }
     if (args[0] == "forget") return Forget(std::vector<std::string>(args.begin() + 1, args.end()));
+    if (args.size() >= 2 && args[0] == "import" && args[1] == "tum") {
+      return ImportTumCommand(std::vector<std::string>(args.begin() + 2, args.end()), Environment());
+    }
     if (args[0] == "backup") return BackupCommand(std::vector<std::string>(args.begin() + 1, args.end()));
     if (args.size() >= 2 && args[0] == "token" && args[1] == "create") {
       std::string role;

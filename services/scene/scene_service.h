@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/cloud/cloud_io.h"
 #include "engine/scene/merge_candidates.h"
 #include "engine/scene/settle.h"
 #include "engine/scene/supersession.h"
@@ -66,6 +67,12 @@ class SceneService {
   // headers. `clean` (movable only) applies the noise cleaning of 3.5.1. kInvalidArgument: clean with another layer.
   ExportedLayer Layer(const std::string& map, std::int64_t id, SceneLayerKind layer, SceneLayerEncoding encoding,
                       bool clean);
+  // The static layer (background) or the movable layer (its pixels at the depth of the latest frame: in memory, else
+  // the model's newest keyframe) back-projected with the model's camera, in the map frame (merge-corrected pose, else
+  // the opening pose) or the camera's optical frame, as PCD / PLY of x, y, z [m] (scene_clouds.cc). X-Points,
+  // X-Frame, X-Scene-Frames headers. kInvalidArgument (field "layer") for another layer; kNotFound.
+  ExportedLayer LayerCloud(const std::string& map, std::int64_t id, SceneLayerKind layer, bool map_frame,
+                           engine::CloudFormat format);
   SceneLayerSummary LayerSummary(const std::string& map, std::int64_t id, SceneLayerKind layer, bool clean);
   // Stores a manual keyframe of the latest frame (kConflict when none arrived since the model was loaded); its
   // analysis as for AddFrame.
