@@ -15,6 +15,10 @@ namespace anchordb::engine {
 // PoseWithCovariance) applied on the left in the frame the pose is expressed in: X_true = Exp(xi) * X_given.
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
+// The localisation error assumed when a client gives none: AMCL-class (a few cm, a few degrees) per camera pose.
+inline constexpr double kDefaultPoseSigmaTranslationM = 0.03;
+inline constexpr double kDefaultPoseSigmaRotationRad = 0.035;
+
 // The diagonal covariance of an isotropic error: sigma_translation_m on each axis, sigma_rotation_rad about each.
 Matrix6d PoseCovarianceFromSigma(double sigma_translation_m, double sigma_rotation_rad);
 
@@ -42,11 +46,11 @@ struct IcpParams {
   int max_input_points = 80000;             // a cloud is thinned evenly to at most this before the voxel grid (a
                                             // 640x480 image has ~300k points; a 3 cm voxel at 1-4 m still holds
                                             // several of the remaining ones, so only the centroids get noisier)
-  double max_range_m = 4.0;
-  // The prior used when the caller gives none: AMCL-class localisation (a few cm, a few degrees), per camera.
-  double prior_sigma_translation_m = 0.03;
-  double prior_sigma_rotation_rad = 0.035;                 // points farther from the origin (the current camera) are left out: a
+  double max_range_m = 4.0;                 // points farther from the origin (the current camera) are left out: a
                                             // structured-light sensor's far range is too noisy to register against
+  // The prior used when the caller gives none, per camera.
+  double prior_sigma_translation_m = kDefaultPoseSigmaTranslationM;
+  double prior_sigma_rotation_rad = kDefaultPoseSigmaRotationRad;
 };
 
 struct IcpResult {
