@@ -25,7 +25,7 @@ struct PriorModel {
   Eigen::Isometry3d X_MapCamera = Eigen::Isometry3d::Identity();  // as stored (may be off by the localisation error)
   std::vector<float> background_m;                                // its static background, 0 = unknown
   // The uncertainty of X_MapCamera (map frame, registration.h's Matrix6d): the localisation error it may have.
-  Matrix6d pose_covariance_map = PoseCovarianceFromSigma(0.03, 0.035);
+  Matrix6d pose_covariance_map = PoseCovarianceFromSigma(kDefaultPoseSigmaTranslationM, kDefaultPoseSigmaRotationRad);
 };
 
 enum class MergeStrategy {
@@ -70,7 +70,8 @@ struct MergeParams {
   IcpParams icp;
   // The uncertainty of the current camera's pose (map frame): with each earlier model's, the prior of the
   // registration (RelativePoseCovariance); the registration decides whether its correction is trusted.
-  Matrix6d current_pose_covariance_map = PoseCovarianceFromSigma(0.03, 0.035);
+  Matrix6d current_pose_covariance_map =
+      PoseCovarianceFromSigma(kDefaultPoseSigmaTranslationM, kDefaultPoseSigmaRotationRad);
 };
 
 // What the merge of one earlier model did at a pixel of the new view (MergeParams::record_decisions), for diagnosis.

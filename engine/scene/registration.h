@@ -21,6 +21,10 @@ namespace anchordb::engine {
 // X_true = Exp(xi) * X_given (for the current camera, the origin, both readings agree).
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
+// The localisation error assumed when a client gives none: AMCL-class (a few cm, a few degrees) per camera pose.
+inline constexpr double kDefaultPoseSigmaTranslationM = 0.03;
+inline constexpr double kDefaultPoseSigmaRotationRad = 0.035;
+
 // The diagonal covariance of an isotropic error: sigma_translation_m on each axis, sigma_rotation_rad about each.
 Matrix6d PoseCovarianceFromSigma(double sigma_translation_m, double sigma_rotation_rad);
 
@@ -88,9 +92,9 @@ struct IcpParams {
                                             // several of the remaining ones, so only the centroids get noisier)
   double max_range_m = 4.0;                 // points farther from the origin (the current camera) are left out: a
                                             // structured-light sensor's far range is too noisy to register against
-  // The prior used when the caller gives none: AMCL-class localisation (a few cm, a few degrees), per camera.
-  double prior_sigma_translation_m = 0.03;
-  double prior_sigma_rotation_rad = 0.035;
+  // The prior used when the caller gives none, per camera.
+  double prior_sigma_translation_m = kDefaultPoseSigmaTranslationM;
+  double prior_sigma_rotation_rad = kDefaultPoseSigmaRotationRad;
 };
 
 struct IcpResult {
