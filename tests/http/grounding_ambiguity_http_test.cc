@@ -140,7 +140,8 @@ TEST_F(GroundingAmbiguityHttpTest, DescriptionThatFitsNoPieceChangesNoCategoryDi
   EXPECT_EQ(question.rfind("I do not see a cupboard behind a chair; do you mean the ", 0), 0u) << question;
   EXPECT_EQ(Categories(Get(graph)), seen);
   // Every live hypothesis, not only the best, kept the visual categories.
-  for (const json& h : Get(graph + "/hypotheses?limit=1000")["hypotheses"]) {
+  const json hypotheses = Get(graph + "/hypotheses?limit=1000");  // kept alive for the loop (a temporary's element is not)
+  for (const json& h : hypotheses["hypotheses"]) {
     EXPECT_EQ(h["labels"]["plant"], "plant");
     EXPECT_EQ(h["labels"]["table_left"], "table");
   }
