@@ -75,7 +75,8 @@ void CheckSize(const pcl::PCLPointCloud2& header, std::size_t max_points) {
 DecodedCloud ToDecoded(const pcl::PCLPointCloud2& cloud, const Eigen::Vector4f& origin) {
   if (!HasXyz(cloud)) Bad("the cloud has no x, y and z fields");
   pcl::PointCloud<pcl::PointXYZ> xyz;
-  pcl::fromPCLPointCloud2(cloud, xyz);
+  // PCL 1.13's conversion takes &points[0] of the output even when it is empty (undefined behaviour): skip it then.
+  if (std::uint64_t{cloud.width} * cloud.height > 0) pcl::fromPCLPointCloud2(cloud, xyz);
   DecodedCloud out;
   out.points.reserve(xyz.size());
   for (const auto& p : xyz) out.points.emplace_back(p.x, p.y, p.z);
