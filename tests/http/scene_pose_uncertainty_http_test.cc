@@ -30,16 +30,19 @@ json Diagonal(double t_var, double r_var) {
   return c;
 }
 
+// POSTs a JSON body; the status and the parsed answer (0 and null when nothing answered).
+std::pair<int, json> PostJson(httplib::Client& client, const std::string& path, const json& body) {
+  auto r = client.Post(path, body.dump(), "application/json");
+  EXPECT_TRUE(r) << path;
+  return r ? std::pair{r->status, json::parse(r->body, nullptr, false)} : std::pair{0, json()};
+}
+
 TEST(ScenePoseUncertaintyHttpTest, PoseSigmaOrCovarianceIsStoredBadInputIsRefusedAndTheMergeReportsTheRegistration) {
   testing::TempDir dir;
   testing::ServerProcess server(dir.File("pose.sqlite"));
   httplib::Client client("127.0.0.1", server.port());
   client.set_read_timeout(60, 0);
-  const auto post = [&](const std::string& path, const json& body) {
-    auto r = client.Post(path, body.dump(), "application/json");
-    EXPECT_TRUE(r) << path;
-    return r ? std::pair{r->status, json::parse(r->body, nullptr, false)} : std::pair{0, json()};
-  };
+  const auto post = [&](const std::string& path, const json& body) { return PostJson(client, path, body); };
   ASSERT_EQ(post("/v1/maps", {{"id", "home"}}).first, 201);
   const PinholeIntrinsics K = rs::Kinect(320, 240);
   const sim::Scene scene = rs::SparseRoom();
@@ -141,11 +144,7 @@ TEST(ScenePoseUncertaintyHttpTest, AnUnobservableRegistrationUnderAWidePriorFall
   testing::ServerProcess server(dir.File("fallback.sqlite"));
   httplib::Client client("127.0.0.1", server.port());
   client.set_read_timeout(60, 0);
-  const auto post = [&](const std::string& path, const json& body) {
-    auto r = client.Post(path, body.dump(), "application/json");
-    EXPECT_TRUE(r) << path;
-    return r ? std::pair{r->status, json::parse(r->body, nullptr, false)} : std::pair{0, json()};
-  };
+  const auto post = [&](const std::string& path, const json& body) { return PostJson(client, path, body); };
   ASSERT_EQ(post("/v1/maps", {{"id", "home"}}).first, 201);
   // Full resolution: at 320 x 240 the sensor's disparity terraces on the far floor lend its in-plane motion enough
   // apparent information that only 2 of the 3 directions count as unobservable (an open defect, issue 13's note).
