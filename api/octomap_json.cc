@@ -143,7 +143,9 @@ Json ToJson(const services::OctomapInfo& i) {
           {"stamped_voxels", m.stamped_voxels},
           {"bbox", bbox},
           {"created_ns", i.created_ns},
-          {"updated_ns", i.updated_ns}};
+          {"updated_ns", i.updated_ns},
+          {"keyframes_through", i.keyframes_through},
+          {"keyframes_uncommitted", i.keyframes_uncommitted}};
 }
 
 Json ToJson(const services::InsertCloudResult& r) {

@@ -115,6 +115,17 @@ int Serve(const Config& config) {
   if (const auto queued = capabilities.analysis.View(std::nullopt); queued.pending > 0) {
     Log("keyframe analyses queued at start, resuming: " + std::to_string(queued.pending));
   }
+  // Trees behind their maps' keyframes (stored after the last commit of octomap_keyframes_per_commit) catch up.
+  {
+    std::vector<std::string> maps;
+    for (std::string after;;) {
+      const auto page = store.Read([&](storage::Connection& c) { return storage::ListMaps(c, after, 500); });
+      for (const auto& m : page) maps.push_back(m.id);
+      if (page.size() < 500) break;
+      after = page.back().id;
+    }
+    capabilities.octomap_feed.FollowAtStart(maps);
+  }
 
   ServingLimits limits;
   limits.worker_threads = o.threads;

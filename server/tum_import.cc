@@ -226,6 +226,7 @@ void ImportTum(const Config& config, const TumImportOptions& o, std::ostream& ou
     out << line << std::flush;
   }
   scenes.PersistAll();
+  octomap.CommitPending();  // the last keyframes of the sequence (octomap_keyframes_per_commit)
   const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const services::OctomapInfo info = octomap.Get(o.map);
   json::Json summary = {{"sequence", fs::absolute(dir).lexically_normal().string()},

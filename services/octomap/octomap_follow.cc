@@ -1,5 +1,7 @@
 // The tree follows the memory: keyframes in (octomap_from_keyframes), removed objects' voxels out.
+#include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "engine/scene/projection.h"
 #include "schema/error.h"
@@ -16,48 +18,50 @@ bool OctomapService::HasTree(const std::string& map) {
 
 FollowReport OctomapService::Follow(const std::string& map) {
   FollowReport report;
-  std::optional<storage::OctomapRecord> row =
-      store_.Read([&](storage::Connection& c) { return storage::FindOctomap(c, map, false); });
+  // Progress from the cached tree when there is one (it may be ahead of the stored version), else the stored row.
+  const auto progress = [&]() -> std::optional<std::pair<std::int64_t, std::int64_t>> {
+    if (!HasTree(map)) return std::nullopt;
+    return Inspect(map, [](Entry& e) { return std::make_pair(e.keyframes_through, e.events_through); });
+  };
   if (settings_.from_keyframes) {
-    std::int64_t through = row ? row->keyframes_through : 0;
+    const auto start = progress();
+    std::int64_t through = start ? start->first : 0;
     for (;;) {
       const std::vector<std::int64_t> ids =
           store_.Read([&](storage::Connection& c) { return storage::KeyframeIdsAfter(c, map, through, 16); });
       if (ids.empty()) break;
+      std::vector<KeyframeInTree> batch;
       for (const std::int64_t id : ids) {
         const std::optional<KeyframeNotice> kf =
             store_.Read([&](storage::Connection& c) { return LoadKeyframeNotice(c, map, id); });
-        std::vector<Eigen::Vector3f> points_M;
-        Eigen::Vector3d origin_M = Eigen::Vector3d::Zero();
-        std::int64_t stamp_ns = 0;
+        KeyframeInTree& k = batch.emplace_back();
+        k.keyframe_id = id;
         if (kf) {
-          points_M = engine::BackProjectRaw(kf->depth_mm, 1000.0, kf->K, kf->X_MapCamera);
-          origin_M = kf->X_MapCamera.translation();
-          stamp_ns = kf->stamp_ns;
+          k.points_M = engine::BackProjectRaw(kf->depth_mm, 1000.0, kf->K, kf->X_MapCamera);
+          k.origin_M = kf->X_MapCamera.translation();
+          k.stamp_ns = kf->stamp_ns;
         }
-        Mutate(map, true, [&](Entry& e) {
-          // A keyframe taken from inside what the tree holds as occupied is skipped, not fatal.
-          if (kf) {
-            try {
-              e.tree.InsertCloud(points_M, origin_M, e.max_range_m, stamp_ns);
-              ++report.keyframes_integrated;
-            } catch (const Error& error) {
-              if (error.code() != ErrorCode::kUnprocessable) throw;
-            }
-          }
-          e.keyframes_through = std::max(e.keyframes_through, id);
-          return 0;
-        });
-        through = id;
       }
+      report.keyframes_integrated += IntegrateKeyframes(map, batch);
+      through = ids.back();
     }
-    row = store_.Read([&](storage::Connection& c) { return storage::FindOctomap(c, map, false); });
   }
-  if (!row) return report;  // no tree: nothing to clear
+  const auto followed = progress();
+  if (!followed) return report;  // no tree: nothing to clear
+  const std::int64_t events_through = followed->second;
   const std::vector<storage::RemovedSegment> removed = store_.Read(
-      [&](storage::Connection& c) { return storage::RemovedSegmentsAfter(c, map, row->events_through, 1000); });
+      [&](storage::Connection& c) { return storage::RemovedSegmentsAfter(c, map, events_through, 1000); });
   const std::int64_t last_event = store_.Read([&](storage::Connection& c) { return storage::LastEventId(c, map); });
-  if (removed.empty() && last_event <= row->events_through) return report;
+  if (removed.empty()) {
+    // Nothing to clear: the progress over the other events is stored with the next commit.
+    if (last_event > events_through) {
+      std::lock_guard<std::mutex> one_writer(write_mutex_);
+      std::shared_ptr<Entry> entry = Load(map, false);
+      std::unique_lock<std::shared_mutex> lock(entry->mutex);
+      entry->events_through = std::max(entry->events_through, last_event);
+    }
+    return report;
+  }
   Mutate(map, false, [&](Entry& e) {
     const double r = e.tree.params().resolution_m;
     for (const storage::RemovedSegment& s : removed) {

@@ -15,6 +15,21 @@ OctomapKeyframeFeed::~OctomapKeyframeFeed() {
   }
   changed_.notify_all();
   if (worker_.joinable()) worker_.join();
+  try {
+    octomap_.CommitPending();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "octomap: storing the pending trees at the stop failed: %s\n", e.what());
+  }
+}
+
+void OctomapKeyframeFeed::FollowAtStart(const std::vector<std::string>& maps) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (stopping_ || maps.empty()) return;
+    for (const std::string& map : maps) pending_.try_emplace(map, 0);  // 0: no analysis to wait for
+    if (!worker_.joinable()) worker_ = std::thread([this] { Worker(); });
+  }
+  changed_.notify_all();
 }
 
 void OctomapKeyframeFeed::Enqueue(storage::Connection& c, const QueuedKeyframe& keyframe) {

@@ -10,6 +10,7 @@
 #include <map>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "services/octomap/octomap_service.h"
 #include "services/scene/keyframe_listener.h"
@@ -19,7 +20,7 @@ namespace anchordb::services {
 class OctomapKeyframeFeed : public KeyframeListener {
  public:
   OctomapKeyframeFeed(OctomapService& octomap, KeyframeListener& next);
-  ~OctomapKeyframeFeed() override;  // finishes the map being followed, then joins
+  ~OctomapKeyframeFeed() override;  // finishes the map being followed, joins, then stores the pending trees
   OctomapKeyframeFeed(const OctomapKeyframeFeed&) = delete;
   OctomapKeyframeFeed& operator=(const OctomapKeyframeFeed&) = delete;
 
@@ -27,6 +28,9 @@ class OctomapKeyframeFeed : public KeyframeListener {
   void Enqueued(const std::string& map) override;
   KeyframeAnalysisStatus Await(std::int64_t keyframe_id) override;
 
+  // Follows each of `maps` once (the server's start: keyframes stored after a tree's last commit, e.g. before a
+  // kill -9, are integrated again). Does not wait.
+  void FollowAtStart(const std::vector<std::string>& maps);
   // Blocks until no map waits to be followed (tests, and callers that read the tree right after a keyframe).
   void Drain();
   // Totals since start.

@@ -76,21 +76,121 @@ std::shared_ptr<OctomapService::Entry> OctomapService::Load(const std::string& m
 
 namespace {
 
-OctomapInfo InfoOf(const std::string& map, std::int64_t version, double max_range_m, std::int64_t created_ns,
-                   std::int64_t updated_ns, std::int64_t stored_bytes, const engine::OccupancyTree& tree) {
+template <typename CachedTree>  // OctomapService::Entry (private to the service)
+OctomapInfo InfoOf(const std::string& map, const CachedTree& e) {
   OctomapInfo info;
   info.map = map;
-  info.version = version;
-  info.params = tree.params();
-  info.max_range_m = max_range_m;
-  info.metadata = tree.Metadata();
-  info.stored_bytes = stored_bytes;
-  info.created_ns = created_ns;
-  info.updated_ns = updated_ns;
+  info.version = e.version;
+  info.params = e.tree.params();
+  info.max_range_m = e.max_range_m;
+  info.metadata = e.tree.Metadata();
+  info.stored_bytes = e.stored_bytes;
+  info.created_ns = e.created_ns;
+  info.updated_ns = e.updated_ns;
+  info.keyframes_through = e.keyframes_through;
+  info.keyframes_uncommitted = e.keyframes_uncommitted;
   return info;
 }
 
 }  // namespace
+
+OctomapInfo OctomapService::CommitLocked(const std::string& map, const std::shared_ptr<Entry>& entry) {
+  const std::int64_t now = clock_.NowNs();
+  const engine::TreeMetadata m = entry->tree.Metadata();
+  storage::OctomapRecord r;
+  r.map_id = map;
+  const engine::OccupancyTreeParams& p = entry->tree.params();
+  r.resolution_m = p.resolution_m;
+  r.prob_hit = p.prob_hit;
+  r.prob_miss = p.prob_miss;
+  r.clamp_min = p.clamp_min;
+  r.clamp_max = p.clamp_max;
+  r.occupancy_threshold = p.occupancy_threshold;
+  r.max_range_m = entry->max_range_m;
+  r.tree_blob = storage::EncodeOctomapTree(entry->tree.empty() ? std::string() : entry->tree.WriteOt());
+  r.stamps_blob = storage::EncodeOctomapStamps(entry->tree.Stamps());
+  r.base_stamp_ns = entry->tree.base_stamp_ns();
+  r.leaves = static_cast<std::int64_t>(m.leaves);
+  r.occupied_leaves = static_cast<std::int64_t>(m.occupied_leaves);
+  r.keyframes_through = entry->keyframes_through;
+  r.events_through = entry->events_through;
+  r.created_ns = entry->version == 0 ? now : entry->created_ns;
+  r.updated_ns = now;
+  const std::optional<std::int64_t> expected =
+      entry->version == 0 ? std::nullopt : std::optional<std::int64_t>(entry->version);
+  const std::int64_t version = store_.Write([&](storage::Connection& c) {
+    RequireMap(c, map);
+    return storage::UpsertOctomap(c, r, expected);
+  });
+  entry->version = version;
+  entry->created_ns = r.created_ns;
+  entry->updated_ns = now;
+  entry->stored_bytes = static_cast<std::int64_t>(r.tree_blob.size() + r.stamps_blob.size());
+  entry->keyframes_uncommitted = 0;
+  {
+    std::lock_guard<std::mutex> cache_lock(cache_mutex_);
+    cache_[map] = entry;
+  }
+  return InfoOf(map, *entry);
+}
+
+void OctomapService::DropCached(const std::string& map, const std::shared_ptr<Entry>& entry) {
+  std::lock_guard<std::mutex> cache_lock(cache_mutex_);
+  if (const auto it = cache_.find(map); it != cache_.end() && it->second == entry) cache_.erase(it);
+}
+
+std::size_t OctomapService::IntegrateKeyframes(const std::string& map, const std::vector<KeyframeInTree>& keyframes,
+                                               bool commit) {
+  std::lock_guard<std::mutex> one_writer(write_mutex_);
+  std::shared_ptr<Entry> entry = Load(map, true);
+  std::unique_lock<std::shared_mutex> lock(entry->mutex);
+  std::size_t integrated = 0;
+  try {
+    for (const KeyframeInTree& k : keyframes) {
+      if (k.keyframe_id <= entry->keyframes_through) continue;  // already in the tree
+      if (!k.points_M.empty()) {
+        // A keyframe taken from inside what the tree holds as occupied is skipped, not fatal.
+        try {
+          entry->tree.InsertCloud(k.points_M, k.origin_M, entry->max_range_m, k.stamp_ns);
+          ++integrated;
+        } catch (const Error& error) {
+          if (error.code() != ErrorCode::kUnprocessable) throw;
+        }
+      }
+      entry->keyframes_through = k.keyframe_id;
+      ++entry->keyframes_uncommitted;
+    }
+    // A tree not stored yet is not cached either: store it at once so that the next batch finds it.
+    if (commit || entry->version == 0 || entry->keyframes_uncommitted >= settings_.keyframes_per_commit) {
+      if (entry->keyframes_uncommitted > 0 || entry->version == 0) CommitLocked(map, entry);
+    }
+  } catch (...) {
+    DropCached(map, entry);
+    throw;
+  }
+  return integrated;
+}
+
+std::size_t OctomapService::CommitPending() {
+  std::vector<std::pair<std::string, std::shared_ptr<Entry>>> dirty;
+  {
+    std::lock_guard<std::mutex> cache_lock(cache_mutex_);
+    for (const auto& [map, entry] : cache_) dirty.emplace_back(map, entry);
+  }
+  std::size_t stored = 0;
+  for (const auto& [map, entry] : dirty) {
+    std::lock_guard<std::mutex> one_writer(write_mutex_);
+    std::unique_lock<std::shared_mutex> lock(entry->mutex);
+    if (entry->keyframes_uncommitted == 0) continue;
+    try {
+      CommitLocked(map, entry);
+      ++stored;
+    } catch (const std::exception&) {
+      DropCached(map, entry);  // the keyframes are integrated again at the next start
+    }
+  }
+  return stored;
+}
 
 OctomapInfo OctomapService::Configure(const std::string& map, const OctomapConfig& config) {
   return Mutate(map, true, [&](Entry& e) {
@@ -133,7 +233,7 @@ OctomapInfo OctomapService::Import(const std::string& map, TreeFileFormat format
 
 OctomapInfo OctomapService::Get(const std::string& map) {
   return Inspect(map, [&](Entry& e) {
-    return InfoOf(map, e.version, e.max_range_m, e.created_ns, e.updated_ns, e.stored_bytes, e.tree);
+    return InfoOf(map, e);
   });
 }
 

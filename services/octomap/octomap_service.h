@@ -67,8 +67,16 @@ class OctomapService {
   // for every 'removed' change event since then, the voxels of the removed object's segment box are cleared (its
   // bottom voxel layer kept: the surface it stood on). Progress is stored with the tree, so a restart resumes. A map
   // without a tree gets one only when there is a keyframe to integrate.
+  // Keyframes are integrated in batches of up to 16 and the tree is stored once per octomap_keyframes_per_commit
+  // keyframes (at once for a map that has no stored tree yet); any other write stores what is pending with it.
   FollowReport Follow(const std::string& map);
   bool HasTree(const std::string& map);
+  // Ray-casts keyframe clouds (ids ascending, past the tree's keyframes_through) into the map's tree, creating it
+  // with the defaults; stores the tree as Follow does (or at once with `commit`). Returns how many were integrated
+  // (a keyframe taken from inside what the tree holds as occupied is skipped). The path of Follow after loading.
+  std::size_t IntegrateKeyframes(const std::string& map, const std::vector<KeyframeInTree>& keyframes, bool commit = false);
+  // Stores every tree holding integrated keyframes not yet stored (the server's stop); returns how many trees.
+  std::size_t CommitPending();
 
   // ---- point clouds out (cloud_exports.cc), as PCD / PLY of x, y, z [m]
   // A stored keyframe's raw depth (or, with `background`, the scene model's static background when it was stored)
@@ -88,6 +96,10 @@ class OctomapService {
   std::shared_ptr<Entry> Load(const std::string& map, bool create_if_missing);
   template <typename F>
   auto Mutate(const std::string& map, bool create_if_missing, F&& change);
+  // Stores `entry` (changed in place by the caller, who holds write_mutex_ and the entry's lock) as the map's next
+  // version and caches it. Throws as the store; the caller then drops the entry from the cache.
+  OctomapInfo CommitLocked(const std::string& map, const std::shared_ptr<Entry>& entry);
+  void DropCached(const std::string& map, const std::shared_ptr<Entry>& entry);
   template <typename F>
   auto Inspect(const std::string& map, F&& look);
 

@@ -28,6 +28,16 @@ struct OctomapInfo {
   engine::TreeMetadata metadata;
   std::int64_t stored_bytes = 0;  // the compressed tree and stamps in the SQLite file
   std::int64_t created_ns = 0, updated_ns = 0;
+  std::int64_t keyframes_through = 0;      // the newest keyframe integrated (octomap_from_keyframes)
+  std::int64_t keyframes_uncommitted = 0;  // integrated keyframes not yet in the stored version (octomap_keyframes_per_commit)
+};
+
+// One stored keyframe's depth, back-projected in the map frame, for the tree.
+struct KeyframeInTree {
+  std::int64_t keyframe_id = 0;
+  std::vector<Eigen::Vector3f> points_M;  // empty: the keyframe is gone (its id still counts as followed)
+  Eigen::Vector3d origin_M = Eigen::Vector3d::Zero();
+  std::int64_t stamp_ns = 0;
 };
 
 enum class TreeFileFormat { kBt, kOt };

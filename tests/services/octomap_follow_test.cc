@@ -8,8 +8,10 @@
 #include "services/capabilities.h"
 #include "sim/apartment.h"
 #include "sim/renderer.h"
+#include "storage/backup.h"
 #include "storage/blob_codec.h"
 #include "storage/event_repository.h"
+#include "storage/octomap_repository.h"
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::services {
@@ -159,6 +161,46 @@ TEST_F(OctomapFollowTest, KeyframeCloudsRoundTripInEveryFormatAndLieOnTheTreesSu
   EXPECT_GT(engine::DecodeCloud(c.octomap.KeyframeCloud("home", kf, true, true, engine::CloudFormat::kPcdBinary).body,
                                 1 << 20).points.size(), 100000u);
   EXPECT_THROW(c.octomap.KeyframeCloud("home", kf + 100, false, true, engine::CloudFormat::kPcdBinary), Error);
+}
+
+// octomap_keyframes_per_commit: the feed stores the tree once per N keyframes. A copy of the file taken while keyframes
+// are pending is what kill -9 leaves: its stored tree lags, and a server started on it integrates the lagging
+// keyframes at start-up into the same tree, byte for byte, as the uninterrupted one. A clean stop stores them.
+TEST_F(OctomapFollowTest, KeyframesPendingACommitAreIntegratedAgainAtTheNextStart) {
+  ASSERT_EQ(Options().octomap.keyframes_per_commit, 10);  // the default this test relies on
+  c.grid.CreateMap({"home", "home"});
+  const sim::SettingScene setting = sim::MakeSetting(sim::Setting::kTA, 3);
+  Observe(setting.scene, setting.X_WorldCameraA, 30);
+  Observe(setting.scene, setting.X_WorldCameraB, 40);
+  const OctomapInfo live = c.octomap.Get("home");
+  ASSERT_EQ(c.octomap_feed.totals().keyframes_integrated, 4u);
+  // The first keyframe created the stored tree; the other three wait for the tenth.
+  EXPECT_EQ(live.keyframes_uncommitted, 3);
+  const std::optional<storage::OctomapRecord> stored =
+      store.Read([](storage::Connection& conn) { return storage::FindOctomap(conn, "home", false); });
+  ASSERT_TRUE(stored);
+  EXPECT_LT(stored->keyframes_through, live.keyframes_through);
+  const std::string uninterrupted_ot = c.octomap.Export("home", TreeFileFormat::kOt).body;
+
+  const std::string crashed = dir.File("crashed.sqlite");
+  storage::Backup(dir.File("follow.sqlite"), crashed, 1000);
+  {
+    storage::Store after(StoreAt(crashed));
+    Capabilities restarted{after, Options()};
+    EXPECT_EQ(restarted.octomap.Get("home").keyframes_through, stored->keyframes_through);
+    restarted.octomap_feed.FollowAtStart({"home"});
+    restarted.octomap_feed.Drain();
+    EXPECT_EQ(restarted.octomap_feed.totals().keyframes_integrated, 3u);
+    const OctomapInfo caught_up = restarted.octomap.Get("home");
+    EXPECT_EQ(caught_up.keyframes_through, live.keyframes_through);
+    EXPECT_EQ(caught_up.metadata.leaves, live.metadata.leaves);
+    EXPECT_TRUE(restarted.octomap.Export("home", TreeFileFormat::kOt).body == uninterrupted_ot);
+  }  // a clean stop: the three keyframes are stored
+  storage::Store reopened(StoreAt(crashed));
+  const std::optional<storage::OctomapRecord> after_stop =
+      reopened.Read([](storage::Connection& conn) { return storage::FindOctomap(conn, "home", false); });
+  ASSERT_TRUE(after_stop);
+  EXPECT_EQ(after_stop->keyframes_through, live.keyframes_through);
 }
 
 }  // namespace
