@@ -28,12 +28,12 @@ struct ShapeModelParams {
   double normal_radius_m = 0.05;     // neighbourhood of the normal estimate
   double boundary_angle_rad = 0.35;  // a point is on a boundary when a neighbour's normal differs by more than this
   double keypoint_spacing_m = 0.05;  // at most one keypoint per voxel of this size (boundary points first)
-  double shot_radius_m = 0.15;       // SHOT support radius (thesis: 0.10 m for furniture)
-  int codebook_size = 200;           // k-means words over every category's descriptors
-  int activated_words = 3;           // codewords a feature activates (eq. 4.5 over these)
+  double shot_radius_m = 0.40;       // SHOT support radius (thesis: 0.10 m; 0.40 m is best on our furniture views)
+  int codebook_size = 1000;          // k-means words over every category's descriptors (thesis: 1000)
+  int activated_words = 1;           // codewords a feature activates (eq. 4.5 over these)
   int azimuth_bins = 36;             // vote-direction histogram: azimuth (0..2 pi) x polar (0..pi) bins
   int polar_bins = 18;
-  double sphere_radius_m = 0.10;     // radius of a Hough sphere (verification and detection)
+  double sphere_radius_m = 0.25;     // radius of a Hough sphere (verification and detection)
   double detection_spacing_m = 0.10; // distance between detection sphere centres
   double accept_fraction = 0.75;     // detection: accept spheres >= this share of the global maximum
   double merge_distance_m = 0.40;    // detection: merge accepted spheres of one category closer than this
