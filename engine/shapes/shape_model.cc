@@ -235,7 +235,7 @@ Verification Verify(const ShapeModel& model, const std::vector<Eigen::Vector3f>&
   return VerifyAt(model, points_m, Centroid(points_m));
 }
 
-std::vector<Detection> Detect(const ShapeModel& model, const std::vector<Eigen::Vector3f>& room_points_m) {
+std::vector<ShapeDetection> Detect(const ShapeModel& model, const std::vector<Eigen::Vector3f>& room_points_m) {
   CheckPoints(room_points_m, "points");
   const auto f = shapes_detail::ComputeLocalFeatures(room_points_m, model.params, model.params.seed);
   if (f.positions_m.empty()) return {};

@@ -6,7 +6,7 @@
 // activated codeword; a ray counts for a sphere when it passes within the sphere's radius in front of the keypoint,
 // with the weight of eq. 4.7 (p(codeword | feature) * p(direction | codeword)).
 //
-// Verification mode: one sphere at the centre of a segment -> p(f) over the categories. Detection mode: spheres on
+// Verification mode: one sphere at the centre of a segment -> p(f) over the categories. ShapeDetection mode: spheres on
 // a grid over a room cloud; every sphere of any category whose weight is >= 75 % of the global maximum is a
 // hypothesis, and neighbours of the same category closer than `merge_distance_m` are merged.
 //
@@ -106,7 +106,7 @@ Verification Verify(const ShapeModel& model, const std::vector<Eigen::Vector3f>&
 Verification VerifyAt(const ShapeModel& model, const std::vector<Eigen::Vector3f>& segment_points_m,
                       const Eigen::Vector3f& centre_m);
 
-struct Detection {
+struct ShapeDetection {
   std::string category;
   Eigen::Vector3f centre_m = Eigen::Vector3f::Zero();  // weight-weighted mean of the merged sphere centres
   double weight = 0;                                   // the strongest merged sphere's weight
@@ -114,8 +114,8 @@ struct Detection {
   int merged_spheres = 0;
 };
 
-// Detection mode over a room cloud, strongest first. Same errors as Verify; no keypoint -> no detection.
-std::vector<Detection> Detect(const ShapeModel& model, const std::vector<Eigen::Vector3f>& room_points_m);
+// ShapeDetection mode over a room cloud, strongest first. Same errors as Verify; no keypoint -> no detection.
+std::vector<ShapeDetection> Detect(const ShapeModel& model, const std::vector<Eigen::Vector3f>& room_points_m);
 
 // Versioned binary (de)serialisation ("ANCHSHM1"); decoding checks sizes and throws Error(kInvalidArgument,
 // "model") for truncated or foreign bytes. Encode(Decode(b)) == b.

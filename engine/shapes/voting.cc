@@ -11,9 +11,9 @@ namespace anchordb::engine::shapes_detail {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-// Detection: rays are followed this far from their keypoint (a furniture centre lies within it of its surface).
+// ShapeDetection: rays are followed this far from their keypoint (a furniture centre lies within it of its surface).
 constexpr float kMaxRayLengthM = 2.5f;
-// Detection: at most this many spheres per category (the spacing grows for a larger cloud).
+// ShapeDetection: at most this many spheres per category (the spacing grows for a larger cloud).
 constexpr std::size_t kMaxSpheres = 400000;
 
 // The middle direction of a bin in the local frame.
@@ -97,7 +97,7 @@ std::vector<double> SphereWeights(const ShapeModel& model, const LocalFeatures& 
   return weights;
 }
 
-std::vector<Detection> DetectSpheres(const ShapeModel& model, const LocalFeatures& f,
+std::vector<ShapeDetection> DetectSpheres(const ShapeModel& model, const LocalFeatures& f,
                                      const std::vector<Eigen::Vector3f>& points_m) {
   const auto& p = model.params;
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
@@ -165,7 +165,7 @@ std::vector<Detection> DetectSpheres(const ShapeModel& model, const LocalFeature
     return centre_of(x, y, z);
   };
   std::vector<char> used(accepted.size(), 0);
-  std::vector<Detection> out;
+  std::vector<ShapeDetection> out;
   for (std::size_t i = 0; i < accepted.size(); ++i) {
     if (used[i]) continue;
     const Eigen::Vector3f seed_m = position(accepted[i].cell);
@@ -181,7 +181,7 @@ std::vector<Detection> DetectSpheres(const ShapeModel& model, const LocalFeature
       total += accepted[j].weight;
       ++merged;
     }
-    Detection d;
+    ShapeDetection d;
     d.category = model.categories[accepted[i].category].name;
     d.centre_m = (sum / total).cast<float>();
     d.weight = accepted[i].weight;

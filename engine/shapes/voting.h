@@ -39,8 +39,8 @@ std::vector<Ray> CastRays(const ShapeModel& model, const LocalFeatures& features
 // keypoint (or starting inside the sphere).
 std::vector<double> SphereWeights(const ShapeModel& model, const LocalFeatures& features, const Eigen::Vector3f& centre_m);
 
-// Detection mode over spheres on a grid spanning the cloud's bounding box.
-std::vector<Detection> DetectSpheres(const ShapeModel& model, const LocalFeatures& features,
+// ShapeDetection mode over spheres on a grid spanning the cloud's bounding box.
+std::vector<ShapeDetection> DetectSpheres(const ShapeModel& model, const LocalFeatures& features,
                                      const std::vector<Eigen::Vector3f>& points_m);
 
 }  // namespace anchordb::engine::shapes_detail
