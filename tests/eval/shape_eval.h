@@ -41,7 +41,8 @@ struct DatasetResult {
 struct ShapeEvalConfig {
   engine::ShapeModelParams params;       // (b)
   engine::ShapeModelParams pair_params;  // (a): its clouds are sparse (the bunny has 397 points)
-  engine::PclIsmParams pcl;
+  engine::PclIsmParams pcl;       // (b)
+  engine::PclIsmParams pair_pcl;  // (a): the tutorial's values scaled to metres
   bool run_pcl = true;
   bool train_noise = true;          // (b): training scans with the sim's sensor noise
   int variants_per_test_cloud = 8;  // (a)
