@@ -1,5 +1,5 @@
-// Training and ray-based Hough voting of the shape models (thesis 4.1.1-4.1.2). OpenCV kmeans through
-// engine/features (BuildCodebook); PCL only behind shape_features.h.
+// Training and ray-based Hough voting of the shape models (thesis 4.1.1-4.1.2). OpenCV kmeans for the codebook;
+// PCL only behind shape_features.h.
 #include "engine/shapes/shape_model.h"
 
 #include <algorithm>
@@ -8,7 +8,8 @@
 #include <numeric>
 #include <random>
 
-#include "engine/features/features.h"
+#include <opencv2/core.hpp>
+
 #include "engine/shapes/shape_features.h"
 #include "engine/shapes/voting.h"
 #include "schema/error.h"
@@ -127,7 +128,8 @@ ShapeModel TrainShapeModel(const std::vector<LabelledCloud>& samples, const Shap
     }
   }
 
-  // 2. The codebook: k-means over (a seeded subsample of at most 40 descriptors per word of) all descriptors.
+  // 2. The codebook: k-means (OpenCV, k-means++ seeded, one attempt of at most 30 iterations) over a seeded
+  // subsample of at most 20 descriptors per word.
   Report(progress, 0.6, "codebook");
   std::vector<std::pair<std::size_t, std::size_t>> all;  // (sample, keypoint)
   all.reserve(total);
@@ -138,7 +140,7 @@ ShapeModel TrainShapeModel(const std::vector<LabelledCloud>& samples, const Shap
   if (words < 2) throw Error(ErrorCode::kUnprocessable, "the samples give fewer than 2 descriptors", "samples");
   std::vector<std::pair<std::size_t, std::size_t>> pick = all;
   std::mt19937_64 rng(params.seed);
-  const std::size_t limit = static_cast<std::size_t>(words) * 40;
+  const std::size_t limit = static_cast<std::size_t>(words) * 20;
   if (pick.size() > limit) {
     std::shuffle(pick.begin(), pick.end(), rng);
     pick.resize(limit);
@@ -150,8 +152,14 @@ ShapeModel TrainShapeModel(const std::vector<LabelledCloud>& samples, const Shap
     const float* d = features[s].descriptors.data() + k * kShotDims;
     data.insert(data.end(), d, d + kShotDims);
   }
-  const Codebook book = BuildCodebook(data, kShotDims, words, params.seed);
-  model.codebook = book.centres;
+  {
+    const cv::Mat mat(static_cast<int>(pick.size()), kShotDims, CV_32F, data.data());
+    cv::Mat labels, words_mat;
+    cv::setRNGSeed(static_cast<int>(params.seed & 0x7fffffff));
+    cv::kmeans(mat, words, labels, cv::TermCriteria(cv::TermCriteria::MAX_ITER + cv::TermCriteria::EPS, 30, 1e-4), 1,
+               cv::KMEANS_PP_CENTERS, words_mat);
+    model.codebook.assign(words_mat.ptr<float>(0), words_mat.ptr<float>(0) + static_cast<std::size_t>(words) * kShotDims);
+  }
   model.params.codebook_size = words;
 
   // 3. Per category and codeword the histogram of vote directions in the keypoints' local frames, each keypoint
