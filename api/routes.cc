@@ -9,6 +9,7 @@
 #include "api/job_routes.h"
 #include "api/octomap_routes.h"
 #include "api/scene_routes.h"
+#include "api/shape_routes.h"
 
 namespace anchordb::api {
 
@@ -22,6 +23,7 @@ void RegisterAllRoutes(Router& router, services::Capabilities& c) {
   RegisterOctomapRoutes(router, c.octomap);
   RegisterFeatureRoutes(router, c.features);
   RegisterClassifierRoutes(router, c.classifiers);
+  RegisterShapeRoutes(router, c.shapes);
   RegisterAuditRoutes(router, c.audit);  // last: it observes the routes above
 }
 

@@ -16,6 +16,7 @@
 #include "services/octomap/octomap_keyframe_feed.h"
 #include "services/octomap/octomap_service.h"
 #include "services/scene/scene_service.h"
+#include "services/shapes/shape_service.h"
 #include "storage/store.h"
 
 namespace anchordb::services {
@@ -31,6 +32,7 @@ struct CapabilityOptions {
   JobSettings jobs;
   OctomapSettings octomap;
   FeatureSettings features;
+  ShapeSettings shapes;
 };
 
 // Binds the settings of every capability, in a stable order.
@@ -55,6 +57,7 @@ class Capabilities {
   FeatureService features;  // anchored features, codebooks (its job kind registers with `jobs`)
   KeyframeExtraction keyframe_features;  // in front of `analysis`: features of every keyframe, by setting
   ClassifierService classifiers;  // E-SAMME models (its training job kind registers with `jobs`)
+  ShapeService shapes;  // 3D shape models (its training job kind registers with `jobs`)
 };
 
 }  // namespace anchordb::services

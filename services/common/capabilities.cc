@@ -33,7 +33,8 @@ Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, co
       octomap_feed(octomap, analysis),
       features(store, jobs, o.features, clock),
       keyframe_features(features, &octomap_feed, o.features.extract_every_keyframe),
-      classifiers(store, jobs, features, grid, clock) {
+      classifiers(store, jobs, features, grid, clock),
+      shapes(store, jobs, o.shapes, clock) {
   // Stored keyframes go to feature extraction (by setting), then the OctoMap feed, then the analysis queue.
   scenes.SetKeyframeListener(&keyframe_features);
 }

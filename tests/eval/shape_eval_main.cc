@@ -1,0 +1,50 @@
+// Shape models beside PCL's ISM (issue 16): prints the Markdown tables and one JSON line per data set.
+// Usage: anchordb_eval_shapes [--quick] [--no-pcl] [--no-loo]
+#include <cstring>
+#include <string>
+#include <iostream>
+
+#include "tests/eval/shape_eval.h"
+
+int main(int argc, char** argv) {
+  using namespace anchordb::eval;
+  ShapeEvalConfig config = FullShapeEvalConfig();
+  bool loo = true;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--quick")) config = QuickShapeEvalConfig();
+    if (!std::strcmp(argv[i], "--no-pcl")) config.run_pcl = false;
+    if (!std::strcmp(argv[i], "--no-loo")) loo = false;
+    if (!std::strcmp(argv[i], "--clean-train")) config.train_noise = false;
+    if (!std::strcmp(argv[i], "--only-furniture")) config.variants_per_test_cloud = -1;
+    // Tuning: --set name=value for the furniture parameters.
+    if (!std::strcmp(argv[i], "--set") && i + 1 < argc) {
+      const std::string kv = argv[++i];
+      const std::string k = kv.substr(0, kv.find('='));
+      const double v = std::stod(kv.substr(kv.find('=') + 1));
+      auto& p = config.params;
+      if (k == "voxel") p.voxel_m = v;
+      if (k == "normal") p.normal_radius_m = v;
+      if (k == "angle") p.boundary_angle_rad = v;
+      if (k == "spacing") p.keypoint_spacing_m = v;
+      if (k == "shot") p.shot_radius_m = v;
+      if (k == "words") p.codebook_size = static_cast<int>(v);
+      if (k == "k") p.activated_words = static_cast<int>(v);
+      if (k == "az") p.azimuth_bins = static_cast<int>(v);
+      if (k == "polar") p.polar_bins = static_cast<int>(v);
+      if (k == "sphere") p.sphere_radius_m = v;
+      if (k == "maxkp") p.max_keypoints = static_cast<int>(v);
+    }
+  }
+  try {
+    for (auto run : {&EvaluatePclTestPair, &EvaluateFurnitureViews, &EvaluateFurnitureLeaveOneMeshOut}) {
+      if (run == &EvaluateFurnitureLeaveOneMeshOut && !loo) continue;
+      if (run == &EvaluatePclTestPair && config.variants_per_test_cloud < 0) continue;
+      const DatasetResult r = run(config);
+      std::cout << ResultTable(r) << "\n" << ResultJson(r) << "\n\n" << std::flush;
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "anchordb_eval_shapes: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
