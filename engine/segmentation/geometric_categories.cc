@@ -1,0 +1,80 @@
+#include "engine/segmentation/geometric_categories.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace anchordb::engine::segmentation {
+namespace {
+
+struct Prototype {
+  const char* id;
+  double height, height_sigma;
+  double major, major_sigma;
+  double minor, minor_sigma;
+  double top, top_sigma;
+};
+
+// One prototype per category of the built-in knowledge table.
+constexpr Prototype kPrototypes[] = {
+    {"table", 0.74, 0.12, 1.2, 0.5, 0.8, 0.3, 0.55, 0.25},
+    {"chair", 0.90, 0.15, 0.5, 0.15, 0.45, 0.12, 0.15, 0.15},
+    {"armchair", 0.85, 0.15, 0.85, 0.2, 0.8, 0.2, 0.15, 0.15},
+    {"sofa", 0.85, 0.15, 2.0, 0.5, 0.9, 0.2, 0.15, 0.15},
+    {"shelf", 1.8, 0.4, 0.9, 0.4, 0.35, 0.12, 0.08, 0.1},
+    {"wardrobe", 2.0, 0.25, 1.2, 0.4, 0.6, 0.12, 0.06, 0.08},
+    {"cupboard", 0.85, 0.2, 1.2, 0.5, 0.5, 0.15, 0.25, 0.15},
+    {"chest_of_drawers", 0.9, 0.15, 0.9, 0.3, 0.5, 0.12, 0.2, 0.15},
+    {"plant", 1.0, 0.4, 0.45, 0.15, 0.4, 0.15, 0.1, 0.1},
+    {"stool", 0.45, 0.1, 0.4, 0.1, 0.35, 0.1, 0.45, 0.25},
+};
+
+double Term(double x, double mu, double sigma) {
+  const double z = (x - mu) / sigma;
+  return -0.5 * z * z;
+}
+
+}  // namespace
+
+ShapeMeasures MeasureSegment(const FurnitureSegment& s, std::optional<double> floor_z_m) {
+  ShapeMeasures m;
+  const Footprint& f = s.footprint;
+  m.height_m = f.max_z_m - (floor_z_m ? *floor_z_m : f.min_z_m);
+  m.major_m = std::max(f.extent_m.x(), f.extent_m.y());
+  m.minor_m = std::min(f.extent_m.x(), f.extent_m.y());
+  std::size_t top = 0;
+  for (const Eigen::Vector3f& p : s.points_m) {
+    if (p.z() >= f.max_z_m - 0.05) ++top;
+  }
+  m.top_fraction = s.points_m.empty() ? 0.0 : static_cast<double>(top) / static_cast<double>(s.points_m.size());
+  return m;
+}
+
+std::vector<double> GeometricCategories(const ShapeMeasures& m, const std::vector<std::string>& ids) {
+  std::vector<double> log_score(ids.size(), std::numeric_limits<double>::quiet_NaN());
+  double lowest = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    for (const Prototype& p : kPrototypes) {
+      if (ids[i] != p.id) continue;
+      log_score[i] = Term(m.height_m, p.height, p.height_sigma) + Term(m.major_m, p.major, p.major_sigma) +
+                     Term(m.minor_m, p.minor, p.minor_sigma) + Term(m.top_fraction, p.top, p.top_sigma);
+      lowest = std::min(lowest, log_score[i]);
+    }
+  }
+  std::vector<double> out(ids.size(), 1.0);
+  if (!std::isfinite(lowest)) {
+    for (double& v : out) v = 1.0 / static_cast<double>(std::max<std::size_t>(1, ids.size()));
+    return out;
+  }
+  double best = -std::numeric_limits<double>::infinity();
+  for (double& v : log_score) {
+    if (std::isnan(v)) v = lowest;
+    best = std::max(best, v);
+  }
+  double sum = 0.0;
+  for (std::size_t i = 0; i < ids.size(); ++i) sum += out[i] = std::exp(log_score[i] - best);
+  for (double& v : out) v /= sum;
+  return out;
+}
+
+}  // namespace anchordb::engine::segmentation
