@@ -16,9 +16,18 @@ struct Footprint {
   double height_m() const { return max_z_m - min_z_m; }
 };
 
-// The footprint of `points_m` (at least one point): yaw from the principal axes of the horizontal coordinates
-// (Eigen's self-adjoint eigen-solver on their covariance), extents from the points' range along those axes.
-Footprint FootprintOf(const std::vector<Eigen::Vector3f>& points_m);
+// The footprint of `points_m`: its principal axes are the heading (1 deg steps) along which the points' horizontal
+// coordinates pile up most (footprint.cc: a projection profile; for box-shaped furniture the directions of its
+// faces, steadier than the axes of the points' covariance, which turn towards whichever face the camera saw most
+// densely); its extents the range of the points along those axes, trimmed by the `trim` share of points at each end
+// (flying pixels and stray noise). Empty input: a zero footprint.
+Footprint FootprintOf(const std::vector<Eigen::Vector3f>& points_m, double trim = 0.01);
+
+// A piece against a wall is seen from the front: its top and back are often hidden (the top at a grazing angle, the
+// back by the piece itself). When one of the footprint's axes lies within `max_angle_rad` of the wall's horizontal
+// normal (the wall: n . p + offset = 0 on the floor plane, n pointing into the room) and the footprint's nearest
+// corner lies at most `reach_m` in front of the wall, the footprint is extended along that axis up to the wall.
+Footprint ExtendToWall(const Footprint& f, const Eigen::Vector2d& normal, double offset, double reach_m, double max_angle_rad);
 
 // Area of the intersection over the area of the union of two footprints (rotated rectangles; OpenCV's
 // rotatedRectangleIntersection). 0 when either is degenerate (zero area).

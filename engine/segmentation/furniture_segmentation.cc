@@ -18,6 +18,8 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <unordered_set>
+#include <Eigen/Geometry>
 
 #include "schema/error.h"
 
@@ -52,18 +54,40 @@ double Signed(const Eigen::Vector4d& plane, const pcl::PointXYZ& q) {
   return plane.head<3>().dot(q.getVector3fMap().cast<double>()) + plane[3];
 }
 
-// Width (horizontal, within the plane) and height spanned by a vertical plane's inliers.
-std::pair<double, double> VerticalSpan(const Cloud& cloud, const std::vector<int>& inliers, const Eigen::Vector3d& n) {
+// Width (horizontal, within the plane) and height spanned by the largest connected patch of a vertical plane's
+// inliers (an infinite plane also takes in coplanar faces of furniture anywhere in the room).
+std::pair<double, double> VerticalSpan(const Cloud::Ptr& cloud, const std::vector<int>& inliers, const Eigen::Vector3d& n,
+                                       double link_m) {
+  pcl::IndicesPtr indices = std::make_shared<std::vector<int>>(inliers);
+  pcl::search::KdTree<pcl::PointXYZ>::Ptr tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>();
+  tree->setInputCloud(cloud, indices);
+  pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
+  ec.setClusterTolerance(link_m);
+  ec.setMinClusterSize(1);
+  ec.setMaxClusterSize(std::numeric_limits<int>::max());
+  ec.setSearchMethod(tree);
+  ec.setInputCloud(cloud);
+  ec.setIndices(indices);
+  std::vector<pcl::PointIndices> patches;
+  ec.extract(patches);
+  if (patches.empty()) return {0.0, 0.0};
   const Eigen::Vector3d along = Eigen::Vector3d::UnitZ().cross(n).normalized();
   double lo = std::numeric_limits<double>::infinity(), hi = -lo, zlo = lo, zhi = -lo;
-  for (int i : inliers) {
-    const Eigen::Vector3d q = cloud[static_cast<std::size_t>(i)].getVector3fMap().cast<double>();
+  for (int i : patches.front().indices) {  // PCL sorts the clusters largest first
+    const Eigen::Vector3d q = (*cloud)[static_cast<std::size_t>(i)].getVector3fMap().cast<double>();
     lo = std::min(lo, q.dot(along));
     hi = std::max(hi, q.dot(along));
     zlo = std::min(zlo, q.z());
     zhi = std::max(zhi, q.z());
   }
   return {hi - lo, zhi - zlo};
+}
+
+constexpr double kFloorCellM = 0.05;
+
+bool Inside(const Footprint& f, const Eigen::Vector2d& q) {
+  const Eigen::Vector2d local = Eigen::Rotation2Dd(-f.yaw_rad) * (q - f.centre_m);
+  return std::abs(local.x()) <= 0.5 * f.extent_m.x() && std::abs(local.y()) <= 0.5 * f.extent_m.y();
 }
 
 struct Cluster {
@@ -122,6 +146,7 @@ SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m,
 
   // 1. Planes, one after another, on what the earlier planes left.
   std::vector<char> in_plane(n, 0);  // taken by an earlier plane (not offered to RANSAC again)
+  std::vector<int> plane_of(n, -1);  // which plane took it
   std::vector<int> offered(n);
   for (std::size_t i = 0; i < n; ++i) offered[i] = static_cast<int>(i);
   pcl::SACSegmentation<pcl::PointXYZ> sac;
@@ -145,7 +170,7 @@ SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m,
     FittedPlane plane;
     plane.coefficients << normal / norm, model.values[3] / norm;
     plane.inliers = inliers.indices.size();
-    for (int i : inliers.indices) in_plane[static_cast<std::size_t>(i)] = 1;
+    for (int i : inliers.indices) in_plane[static_cast<std::size_t>(i)] = 1, plane_of[static_cast<std::size_t>(i)] = k;
     std::vector<int> rest;
     for (int i : offered) {
       if (!in_plane[static_cast<std::size_t>(i)]) rest.push_back(i);
@@ -168,7 +193,7 @@ SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m,
       if (static_cast<double>(neg) <= allowed_behind) {
         plane.role = PlaneRole::kWall;
       } else {
-        const auto [width, height] = VerticalSpan(*thin, inliers.indices, plane.coefficients.head<3>());
+        const auto [width, height] = VerticalSpan(thin, inliers.indices, plane.coefficients.head<3>(), 3.0 * p.voxel_m);
         if (width >= p.wall_min_width_m && height >= p.wall_min_height_m) plane.role = PlaneRole::kWallWithOpening;
       }
     }
@@ -181,6 +206,17 @@ SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m,
   // the lowest one.
   for (const FittedPlane& plane : out.planes) {
     if (plane.role == PlaneRole::kFloor && (!out.floor_z_m || -plane.coefficients[3] < *out.floor_z_m)) out.floor_z_m = -plane.coefficients[3];
+  }
+
+  // Where the floor was seen, in cells of kFloorCellM: a piece may extend back to a wall only over floor nobody saw.
+  std::unordered_set<std::int64_t> floor_seen;
+  const auto cell_key = [](double x, double y) {
+    return (static_cast<std::int64_t>(std::floor(x / kFloorCellM)) << 32) ^ (static_cast<std::int64_t>(std::floor(y / kFloorCellM)) & 0xffffffff);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    if (plane_of[i] >= 0 && out.planes[static_cast<std::size_t>(plane_of[i])].role == PlaneRole::kFloor) {
+      floor_seen.insert(cell_key((*thin)[i].x, (*thin)[i].y));
+    }
   }
 
   // 2. Remove the bounding planes with their band (and anything below the floor, above a ceiling).
@@ -283,6 +319,22 @@ SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m,
     for (int i : c.indices) s.points_m.push_back((*remaining)[static_cast<std::size_t>(i)].getVector3fMap());
     s.centroid_m = c.centroid;
     s.footprint = FootprintOf(s.points_m);
+    for (const FittedPlane& plane : out.planes) {
+      if (plane.role != PlaneRole::kWall && plane.role != PlaneRole::kWallWithOpening) continue;
+      const Eigen::Vector2d wall_n = plane.coefficients.head<2>();
+      const Footprint grown = ExtendToWall(s.footprint, wall_n / wall_n.norm(), plane.coefficients[3] / wall_n.norm(), p.wall_reach_m, 0.26);
+      // The strip between the piece and the wall: hidden when at most a fifth of its floor cells were seen.
+      int cells = 0, seen = 0;
+      for (double u = -0.5 * grown.extent_m.x(); u <= 0.5 * grown.extent_m.x(); u += kFloorCellM) {
+        for (double v = -0.5 * grown.extent_m.y(); v <= 0.5 * grown.extent_m.y(); v += kFloorCellM) {
+          const Eigen::Vector2d q = grown.centre_m + Eigen::Rotation2Dd(grown.yaw_rad) * Eigen::Vector2d(u, v);
+          if (Inside(s.footprint, q)) continue;
+          ++cells;
+          seen += floor_seen.count(cell_key(q.x(), q.y())) > 0;
+        }
+      }
+      if (cells > 0 && seen * 5 <= cells) s.footprint = grown;
+    }
     s.touches_floor = c.floor;
     s.touches_wall = c.wall;
     s.merged_flying = c.merged;

@@ -36,6 +36,9 @@ struct SegmentationParams {
   double cluster_tolerance_m = 0.05;   // Euclidean clustering distance [m]
   std::size_t min_cluster_points = 150;  // smaller clusters are not furniture (at the default voxel: ~0.06 m^2)
   double contact_m = 0.10;             // a cluster within this of the floor or a wall touches it [m]
+  // A piece whose footprint ends at most this far in front of a wall extends back to it when the floor between was
+  // not seen (its back and top hidden from the camera; engine/segmentation/footprint.h ExtendToWall) [m]; 0 = never.
+  double wall_reach_m = 0.8;
 };
 
 enum class PlaneRole { kFloor, kCeiling, kWall, kWallWithOpening, kSurface };

@@ -2,7 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <numbers>
+#include <sstream>
 
 #include "engine/scene/projection.h"
 #include "engine/segmentation/footprint.h"
@@ -41,7 +44,7 @@ Footprint TrueFootprint(const sim::PlacedPiece& p) {
 
 TEST(FootprintTest, PrincipalAxesAndIoU) {
   std::vector<Eigen::Vector3f> points;
-  const double yaw = 0.4;
+  const double yaw = 23.0 * std::numbers::pi / 180.0;  // a heading of the 1 deg sweep
   for (int i = 0; i <= 40; ++i) {
     for (int k = 0; k <= 10; ++k) {
       const Eigen::Vector2d local(-1.0 + 0.05 * i, -0.25 + 0.05 * k);
@@ -49,7 +52,7 @@ TEST(FootprintTest, PrincipalAxesAndIoU) {
       points.emplace_back(static_cast<float>(w.x()), static_cast<float>(w.y()), static_cast<float>(0.1 * (k % 3)));
     }
   }
-  const Footprint f = FootprintOf(points);
+  const Footprint f = FootprintOf(points, 0.0);
   EXPECT_NEAR(f.yaw_rad, yaw, 1e-3);
   EXPECT_NEAR(f.extent_m.x(), 2.0, 1e-3);
   EXPECT_NEAR(f.extent_m.y(), 0.5, 1e-3);
@@ -88,6 +91,20 @@ TEST(SegmentationTest, FindsEveryPieceOfTheFurnishedRoomAndNothingElse) {
       if (FootprintIoU(s.footprint, TrueFootprint(room.pieces[i])) >= 0.5) hit = true, found[i] = true;
     }
     right += hit;
+    if (!hit) ADD_FAILURE() << "segment at " << s.footprint.centre_m.transpose() << " extent " << s.footprint.extent_m.transpose()
+                            << " yaw " << s.footprint.yaw_rad << " z " << s.footprint.min_z_m << ".." << s.footprint.max_z_m
+                            << " points " << s.points_m.size();
+    if (!hit && std::getenv("SEG_DUMP")) {
+      FILE* out = std::fopen(("/tmp/seg_" + std::to_string(s.points_m.size()) + ".xyz").c_str(), "w");
+      for (const auto& q : s.points_m) std::fprintf(out, "%f %f %f\n", q.x(), q.y(), q.z());
+      std::fclose(out);
+    }
+  }
+  for (std::size_t i = 0; i < room.pieces.size(); ++i) {
+    if (found[i]) continue;
+    double best = 0;
+    for (const FurnitureSegment& s : r.segments) best = std::max(best, FootprintIoU(s.footprint, TrueFootprint(room.pieces[i])));
+    ADD_FAILURE() << room.pieces[i].category << " not found (best IoU " << best << ")";
   }
   int recalled = 0;
   for (bool f : found) recalled += f;
