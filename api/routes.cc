@@ -1,4 +1,5 @@
 #include "api/routes.h"
+#include "api/segmentation_routes.h"
 
 #include "api/audit_routes.h"
 #include "api/classifier_routes.h"
@@ -22,6 +23,7 @@ void RegisterAllRoutes(Router& router, services::Capabilities& c) {
   RegisterOctomapRoutes(router, c.octomap);
   RegisterFeatureRoutes(router, c.features);
   RegisterClassifierRoutes(router, c.classifiers);
+  RegisterSegmentationRoutes(router, c.segmentation);
   RegisterAuditRoutes(router, c.audit);  // last: it observes the routes above
 }
 

@@ -16,6 +16,7 @@
 #include "services/octomap/octomap_keyframe_feed.h"
 #include "services/octomap/octomap_service.h"
 #include "services/scene/scene_service.h"
+#include "services/segmentation/furniture_segmentation_service.h"
 #include "storage/store.h"
 
 namespace anchordb::services {
@@ -55,6 +56,7 @@ class Capabilities {
   FeatureService features;  // anchored features, codebooks (its job kind registers with `jobs`)
   KeyframeExtraction keyframe_features;  // in front of `analysis`: features of every keyframe, by setting
   ClassifierService classifiers;  // E-SAMME models (its training job kind registers with `jobs`)
+  FurnitureSegmentationService segmentation;  // furniture found in the keyframes (its job kind registers with `jobs`)
 };
 
 }  // namespace anchordb::services
