@@ -39,12 +39,22 @@ double Term(double x, double mu, double sigma) {
 ShapeMeasures MeasureSegment(const FurnitureSegment& s, std::optional<double> floor_z_m) {
   ShapeMeasures m;
   const Footprint& f = s.footprint;
-  m.height_m = f.max_z_m - (floor_z_m ? *floor_z_m : f.min_z_m);
+  // The top: the 97th percentile of the heights, so that a bottle standing on a table does not lift it.
+  double top_z = f.max_z_m;
+  if (!s.points_m.empty()) {
+    std::vector<float> z;
+    z.reserve(s.points_m.size());
+    for (const Eigen::Vector3f& p : s.points_m) z.push_back(p.z());
+    const std::size_t k = static_cast<std::size_t>(0.97 * static_cast<double>(z.size() - 1));
+    std::nth_element(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(k), z.end());
+    top_z = z[k];
+  }
+  m.height_m = top_z - (floor_z_m ? *floor_z_m : f.min_z_m);
   m.major_m = std::max(f.extent_m.x(), f.extent_m.y());
   m.minor_m = std::min(f.extent_m.x(), f.extent_m.y());
   std::size_t top = 0;
   for (const Eigen::Vector3f& p : s.points_m) {
-    if (p.z() >= f.max_z_m - 0.05) ++top;
+    if (std::abs(p.z() - top_z) <= 0.05) ++top;
   }
   m.top_fraction = s.points_m.empty() ? 0.0 : static_cast<double>(top) / static_cast<double>(s.points_m.size());
   return m;

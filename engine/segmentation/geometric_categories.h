@@ -17,7 +17,7 @@ struct ShapeMeasures {
   double height_m = 0.0;       // top above the floor (or above the segment's own bottom without a floor) [m]
   double major_m = 0.0;        // footprint's longer side [m]
   double minor_m = 0.0;        // footprint's shorter side [m]
-  double top_fraction = 0.0;   // share of the points within 0.05 m of the top
+  double top_fraction = 0.0;   // share of the points within 0.05 m of the top (the 97th percentile of their heights)
 };
 
 // `floor_z_m`: the floor's height when the segmentation found it.

@@ -138,7 +138,10 @@ std::optional<SegmentationScore> EvaluateMeshRooms(int rooms, std::uint64_t seed
       // Keep a piece against its wall: move it so that its depth ends where the box piece's did.
       const Eigen::Vector2d own_y = Eigen::Rotation2Dd(place.yaw_rad) * Eigen::Vector2d(0, 1);
       const double depth = turn ? size.x() : size.y();
-      const Eigen::Vector2d centre = place.centre_m + own_y * 0.5 * (place.extent_m.y() - depth) * (i == 1 || i == 2 ? 0.0 : 1.0);
+      // Which way the piece's wall lies along its own y: sofa and shelf +y, wardrobe and cupboard -y, table and chair
+      // stand free (sim/apartment_furnished.cc).
+      constexpr double kWallSide[] = {1.0, 0.0, 0.0, 1.0, -1.0, -1.0};
+      const Eigen::Vector2d centre = place.centre_m + own_y * 0.5 * (place.extent_m.y() - depth) * kWallSide[i];
       Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
       X.translation() = Eigen::Vector3d(centre.x(), centre.y(), -lo.z());
       X.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();

@@ -87,7 +87,7 @@ TEST_F(SegmentationHttpTest, KeyframesBecomeFurnitureThatSurvivesARestart) {
   // Bad input: nothing queued.
   Error("POST", "/v1/maps/flat/furniture:segment", {{"max_range_m", -1}}, 422, "max_range_m");
   Error("POST", "/v1/maps/flat/furniture:segment", {{"params", {{"voxel_m", 0}}}}, 400, "params.voxel_m");
-  Error("POST", "/v1/maps/flat/furniture:segment", {{"params", {{"voxel": 0.1}}}}, 400, "params.voxel");
+  Error("POST", "/v1/maps/flat/furniture:segment", {{"params", {{"voxel", 0.1}}}}, 400, "params.voxel");
   Error("POST", "/v1/maps/flat/furniture:segment", {{"source", "moon"}}, 400, "source");
   Error("POST", "/v1/maps/flat/furniture:segment", {{"keyframes", {1, "two"}}}, 400, "keyframes[1]");
   Error("POST", "/v1/maps/flat/furniture:segment", {{"shape_model", "nope"}}, 404, "shape_model");
