@@ -30,7 +30,9 @@ struct SegmentationParams {
   // A vertical plane whose inliers span at least this width and height is a wall even with points behind it.
   double wall_min_width_m = 2.0;
   double wall_min_height_m = 1.5;
-  double band_m = 0.05;                // around a bounding plane, points closer than this are removed too [m]
+  // Around a bounding plane, points closer than this are removed too [m]: the sensor noise, and a wall seen twice
+  // from poses a few centimetres apart (a merge corrects most of a pose error, not all of it).
+  double band_m = 0.08;
   double outlier_radius_m = 0.05;      // a point with fewer than `outlier_min_neighbours` within this is noise
   int outlier_min_neighbours = 4;
   double cluster_tolerance_m = 0.05;   // Euclidean clustering distance [m]

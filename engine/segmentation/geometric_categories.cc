@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 
 namespace anchordb::engine::segmentation {
 namespace {
@@ -13,20 +14,21 @@ struct Prototype {
   double major, major_sigma;
   double minor, minor_sigma;
   double top, top_sigma;
+  double layer, layer_sigma;
 };
 
 // One prototype per category of the built-in knowledge table.
 constexpr Prototype kPrototypes[] = {
-    {"table", 0.74, 0.12, 1.2, 0.5, 0.8, 0.3, 0.55, 0.25},
-    {"chair", 0.90, 0.15, 0.5, 0.15, 0.45, 0.12, 0.15, 0.15},
-    {"armchair", 0.85, 0.15, 0.85, 0.2, 0.8, 0.2, 0.15, 0.15},
-    {"sofa", 0.85, 0.15, 2.0, 0.5, 0.9, 0.2, 0.15, 0.15},
-    {"shelf", 1.8, 0.4, 0.9, 0.4, 0.35, 0.12, 0.08, 0.1},
-    {"wardrobe", 2.0, 0.25, 1.2, 0.4, 0.6, 0.12, 0.06, 0.08},
-    {"cupboard", 0.85, 0.2, 1.2, 0.5, 0.5, 0.15, 0.25, 0.15},
-    {"chest_of_drawers", 0.9, 0.15, 0.9, 0.3, 0.5, 0.12, 0.2, 0.15},
-    {"plant", 1.0, 0.4, 0.45, 0.15, 0.4, 0.15, 0.1, 0.1},
-    {"stool", 0.45, 0.1, 0.4, 0.1, 0.35, 0.1, 0.45, 0.25},
+    {"table", 0.74, 0.12, 1.2, 0.5, 0.8, 0.3, 0.55, 0.25, 0.95, 0.12},
+    {"chair", 0.90, 0.15, 0.5, 0.15, 0.45, 0.12, 0.3, 0.2, 0.5, 0.15},
+    {"armchair", 0.85, 0.15, 0.85, 0.2, 0.8, 0.2, 0.3, 0.2, 0.5, 0.15},
+    {"sofa", 0.85, 0.15, 2.0, 0.5, 0.9, 0.2, 0.3, 0.2, 0.5, 0.15},
+    {"shelf", 1.8, 0.4, 0.9, 0.4, 0.35, 0.12, 0.15, 0.15, 0.6, 0.4},
+    {"wardrobe", 2.0, 0.25, 1.2, 0.4, 0.6, 0.12, 0.15, 0.15, 0.8, 0.4},
+    {"cupboard", 0.85, 0.2, 1.2, 0.5, 0.5, 0.15, 0.25, 0.2, 0.9, 0.25},
+    {"chest_of_drawers", 0.9, 0.15, 0.9, 0.3, 0.5, 0.12, 0.2, 0.2, 0.9, 0.25},
+    {"plant", 1.0, 0.4, 0.45, 0.15, 0.4, 0.15, 0.15, 0.15, 0.6, 0.4},
+    {"stool", 0.45, 0.1, 0.4, 0.1, 0.35, 0.1, 0.45, 0.25, 0.95, 0.12},
 };
 
 double Term(double x, double mu, double sigma) {
@@ -52,11 +54,19 @@ ShapeMeasures MeasureSegment(const FurnitureSegment& s, std::optional<double> fl
   m.height_m = top_z - (floor_z_m ? *floor_z_m : f.min_z_m);
   m.major_m = std::max(f.extent_m.x(), f.extent_m.y());
   m.minor_m = std::min(f.extent_m.x(), f.extent_m.y());
-  std::size_t top = 0;
+  // The densest 5 cm layer above 0.25 m (a table top, a seat, a board).
+  const double base = floor_z_m ? *floor_z_m : f.min_z_m;
+  std::map<int, std::size_t> layers;
   for (const Eigen::Vector3f& p : s.points_m) {
-    if (std::abs(p.z() - top_z) <= 0.05) ++top;
+    if (p.z() - base > 0.25) ++layers[static_cast<int>(std::floor((p.z() - base) / 0.05))];
   }
-  m.top_fraction = s.points_m.empty() ? 0.0 : static_cast<double>(top) / static_cast<double>(s.points_m.size());
+  std::size_t densest = 0;
+  int layer = -1;
+  for (const auto& [k, count] : layers) {
+    if (count > densest) densest = count, layer = k;
+  }
+  m.top_fraction = s.points_m.empty() ? 0.0 : static_cast<double>(densest) / static_cast<double>(s.points_m.size());
+  m.layer_ratio = layer >= 0 && m.height_m > 0 ? std::min(1.2, (layer + 0.5) * 0.05 / m.height_m) : 1.0;
   return m;
 }
 
@@ -67,7 +77,8 @@ std::vector<double> GeometricCategories(const ShapeMeasures& m, const std::vecto
     for (const Prototype& p : kPrototypes) {
       if (ids[i] != p.id) continue;
       log_score[i] = Term(m.height_m, p.height, p.height_sigma) + Term(m.major_m, p.major, p.major_sigma) +
-                     Term(m.minor_m, p.minor, p.minor_sigma) + Term(m.top_fraction, p.top, p.top_sigma);
+                     Term(m.minor_m, p.minor, p.minor_sigma) + Term(m.top_fraction, p.top, p.top_sigma) +
+                     Term(m.layer_ratio, p.layer, p.layer_sigma);
       lowest = std::min(lowest, log_score[i]);
     }
   }

@@ -207,7 +207,12 @@ SegmentationOutcome RunSegmentation(const FurnitureSegmentationService::Core& co
     for (std::size_t i = 0; i < ids.size(); ++i) {
       std::optional<KeyframeNotice> kf = LoadKeyframeNotice(c, map, ids[i]);
       if (!kf) throw Error(ErrorCode::kNotFound, "keyframe " + std::to_string(ids[i]) + " does not exist in map '" + map + "'", "keyframes[" + std::to_string(i) + "]");
-      std::vector<std::uint16_t> depth = kf->background_mm.size() == kf->depth_mm.size() ? kf->background_mm : kf->depth_mm;
+      // By default only the keyframes that open and close an observation: between them a person may stand in
+      // the view long enough to enter the static background.
+      if (r.keyframes.empty() && kf->kind != "begin" && kf->kind != "end") continue;
+      // The keyframe's own depth, not its model's static background: a person who stood still in the view may
+      // linger in the background after leaving.
+      std::vector<std::uint16_t> depth = kf->depth_mm;
       const double max_mm = r.max_range_m * 1000.0;
       for (auto& d : depth) {
         if (d > max_mm) d = 0;

@@ -15,8 +15,10 @@ enum class SegmentationSource { kKeyframes, kOctomap };
 
 struct SegmentationRequest {
   SegmentationSource source = SegmentationSource::kKeyframes;
-  // kKeyframes: these keyframes of the map (each with its merge-corrected camera), or, empty, the newest
-  // `max_keyframes` of them. Each keyframe gives its scene model's static background when stored, else its depth.
+  // kKeyframes: these keyframes of the map (each with its merge-corrected camera), or, empty, the begin and end
+  // keyframes among the newest `max_keyframes` (a person may stand in the static background of the ones between).
+  // Each keyframe gives its own depth image (not its model's static background, where a person who stood still may
+  // linger).
   std::vector<std::int64_t> keyframes;
   int max_keyframes = 200;
   double max_range_m = 3.5;  // depth beyond this is left out (the sensor's noise grows with the square of depth)

@@ -189,15 +189,20 @@ TEST(SegmentationTest, EmptyAndNonFiniteCloudsAndBadParameters) {
 
 TEST(GeometricCategoriesTest, TablesAndShelvesByTheirShape) {
   const std::vector<std::string> ids = {"table", "shelf", "sofa", "chair", "unknown"};
-  const auto p_table = GeometricCategories({0.75, 1.4, 0.8, 0.7}, ids);
-  EXPECT_GT(p_table[0], 0.5);
-  const auto p_shelf = GeometricCategories({1.8, 1.0, 0.35, 0.05}, ids);
+  const auto p_dining = GeometricCategories({0.75, 1.4, 0.8, 0.6, 0.97}, ids);
+  EXPECT_GT(p_dining[0], 0.5);
+  const auto p_shelf = GeometricCategories({1.8, 1.0, 0.35, 0.1, 0.5}, ids);
   EXPECT_GT(p_shelf[1], 0.5);
   double sum = 0;
   for (double v : p_shelf) sum += v;
   EXPECT_NEAR(sum, 1.0, 1e-9);
-  const auto none = GeometricCategories({1, 1, 1, 1}, {"x", "y"});
+  const auto none = GeometricCategories({1, 1, 1, 1, 1}, {"x", "y"});
   EXPECT_DOUBLE_EQ(none[0], 0.5);
+  // A sofa and a table of the same size: the sofa's densest layer is its seat, half way up.
+  const auto p_sofa = GeometricCategories({0.85, 1.8, 0.9, 0.35, 0.52}, ids);
+  EXPECT_GT(p_sofa[2], p_sofa[0]);
+  const auto p_table = GeometricCategories({0.85, 1.8, 0.9, 0.35, 0.97}, ids);
+  EXPECT_GT(p_table[0], p_table[2]);
 }
 
 }  // namespace

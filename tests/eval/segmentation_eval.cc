@@ -4,6 +4,7 @@
 #include <httplib.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -201,11 +202,22 @@ LostKeyScore EvaluateLostKey(int runs, std::uint64_t seed0) {
     ++out.runs;
     const std::string sentence = r.where.value("sentence", std::string());
     out.sentences.push_back(sentence);
+    std::ostringstream pieces;
+    for (const nlohmann::json& seg : r.segmentation["result"].value("segments", nlohmann::json::array())) {
+      pieces << seg["label"].get<std::string>() << " " << seg["label_probability"].get<double>() << " at (" << seg["position_m"][0]
+             << ", " << seg["position_m"][1] << ") " << seg["extent_m"][0] << " x " << seg["extent_m"][1] << " h "
+             << seg["height_m"] << "; ";
+    }
+    out.segments.push_back(pieces.str());
     const nlohmann::json placement = r.where.value("placement", nlohmann::json());
     if (!placement.is_object() || !placement.contains("furniture_instance") || placement["furniture_instance"].is_null()) continue;
     const auto piece = client.Get("/v1/maps/home/furniture/" + std::to_string(placement["furniture_instance"].get<std::int64_t>()));
     if (!piece || piece->status != 200) continue;
     const nlohmann::json p = nlohmann::json::parse(piece->body);
+    if (const char* dump = std::getenv("SEGMENTATION_EVAL_DUMP")) {  // the answer's piece as PCD, for inspection
+      const auto cloud = client.Get("/v1/maps/home/furniture/" + std::to_string(placement["furniture_instance"].get<std::int64_t>()) + "/cloud?format=pcd_ascii");
+      if (cloud && cloud->status == 200) std::ofstream(std::string(dump) + "/lost_key_" + std::to_string(o.seed) + ".pcd") << cloud->body;
+    }
     seg::Footprint found, truth;
     found.centre_m = Eigen::Vector2d(p["position_m"][0], p["position_m"][1]);
     found.extent_m = Eigen::Vector2d(p["extent_m"][0], p["extent_m"][1]);

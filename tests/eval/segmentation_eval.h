@@ -30,6 +30,7 @@ std::optional<SegmentationScore> EvaluateMeshRooms(int rooms, std::uint64_t seed
 struct LostKeyScore {
   int runs = 0, named_table = 0, segmented_table = 0;
   std::vector<std::string> sentences;
+  std::vector<std::string> segments;  // per run: the segmentation's pieces (label, footprint)
 };
 // The lost-key scenario with no furniture entered: the robot segments its keyframes before the question; a run
 // counts when the where-is answer places the keys against a perceived furniture instance named "table" whose

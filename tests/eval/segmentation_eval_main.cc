@@ -34,15 +34,19 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--first_seed")) seed = std::strtoull(argv[i + 1], nullptr, 10);
     else if (!std::strcmp(argv[i], "--data")) data = argv[i + 1];
   }
-  Print("box rooms", anchordb::eval::EvaluateBoxRooms(rooms, seed));
-  const auto mesh = anchordb::eval::EvaluateMeshRooms(rooms, seed, data + "/aws_small_house/furniture_converted");
-  if (mesh) Print("mesh rooms", *mesh);
-  else std::printf("mesh rooms   skipped: %s/aws_small_house/furniture_converted is absent\n", data.c_str());
+  if (rooms > 0) {
+    Print("box rooms", anchordb::eval::EvaluateBoxRooms(rooms, seed));
+    const auto mesh = anchordb::eval::EvaluateMeshRooms(rooms, seed, data + "/aws_small_house/furniture_converted");
+    if (mesh) Print("mesh rooms", *mesh);
+    else std::printf("mesh rooms   skipped: %s/aws_small_house/furniture_converted is absent\n", data.c_str());
+  }
   if (runs > 0) {
     const auto lk = anchordb::eval::EvaluateLostKey(runs, seed);
     std::printf("lost key     runs %d  answer names the detected table %d  (table segmented %d)\n", lk.runs, lk.named_table,
                 lk.segmented_table);
-    for (std::size_t i = 0; i < lk.sentences.size(); ++i) std::printf("    seed %zu: %s\n", seed + i, lk.sentences[i].c_str());
+    for (std::size_t i = 0; i < lk.sentences.size(); ++i) {
+      std::printf("    seed %zu: %s   [%s]\n", static_cast<std::size_t>(seed + i), lk.sentences[i].c_str(), lk.segments[i].c_str());
+    }
   }
   return 0;
 }
