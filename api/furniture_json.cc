@@ -182,10 +182,18 @@ Json NamedPieceJson(const NamedPiece& p) {
 }  // namespace
 
 CreateGraphRequest ParseCreateGraph(const Json& body) {
-  json::RejectUnknownKeys(body, {"viewpoint", "furniture", "params"});
+  json::RejectUnknownKeys(body, {"viewpoint", "furniture", "params", "from_instances"});
   CreateGraphRequest out;
   out.viewpoint = ParseViewpoint(json::Require(body, "viewpoint"));
   if (body.contains("params")) out.params = ParseParams(body["params"]);
+  if (body.contains("from_instances")) {
+    if (!body["from_instances"].is_boolean()) BadArgument("from_instances must be true or false", "from_instances");
+    out.from_instances = body["from_instances"].get<bool>();
+  }
+  if (out.from_instances) {
+    if (body.contains("furniture")) BadArgument("give furniture or from_instances, not both", "furniture");
+    return out;
+  }
   out.furniture = ParseFurniture(json::Require(body, "furniture"));
   return out;
 }

@@ -1,4 +1,5 @@
 #include "api/routes.h"
+#include "api/segmentation_routes.h"
 
 #include "api/audit_routes.h"
 #include "api/classifier_routes.h"
@@ -24,6 +25,7 @@ void RegisterAllRoutes(Router& router, services::Capabilities& c) {
   RegisterFeatureRoutes(router, c.features);
   RegisterClassifierRoutes(router, c.classifiers);
   RegisterShapeRoutes(router, c.shapes);
+  RegisterSegmentationRoutes(router, c.segmentation);
   RegisterAuditRoutes(router, c.audit);  // last: it observes the routes above
 }
 

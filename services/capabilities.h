@@ -17,6 +17,7 @@
 #include "services/octomap/octomap_service.h"
 #include "services/scene/scene_service.h"
 #include "services/shapes/shape_service.h"
+#include "services/segmentation/furniture_segmentation_service.h"
 #include "storage/store.h"
 
 namespace anchordb::services {
@@ -58,6 +59,7 @@ class Capabilities {
   KeyframeExtraction keyframe_features;  // in front of `analysis`: features of every keyframe, by setting
   ClassifierService classifiers;  // E-SAMME models (its training job kind registers with `jobs`)
   ShapeService shapes;  // 3D shape models (its training job kind registers with `jobs`)
+  FurnitureSegmentationService segmentation;  // furniture found in the keyframes (its job kind registers with `jobs`)
 };
 
 }  // namespace anchordb::services

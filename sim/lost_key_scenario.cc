@@ -3,6 +3,9 @@
 #include <Eigen/Geometry>
 #include <httplib.h>
 
+#include <chrono>
+#include <thread>
+
 #include "sim/apartment.h"
 #include "sim/renderer.h"
 #include "sim/scenario_driver.h"
@@ -34,10 +37,14 @@ LostKeyResult RunLostKeyScenario(httplib::Client& client, const LostKeyOptions& 
   const auto [table_lo, table_hi] = Bounds(a.scene, 10);
   const auto [shelf_lo, shelf_hi] = Bounds(b.scene, 10);
   const Eigen::Vector3d shelf_c = X_Map_B * (0.5 * (shelf_lo + shelf_hi));
-  d.Call("POST", maps + "/instances", {{"kind", "furniture"}, {"label", "table"}, {"position", {0.5 * (table_lo + table_hi).x(), 0.5 * (table_lo + table_hi).y(), 0.5 * (table_lo + table_hi).z()}},
-                                       {"extent", {(table_hi - table_lo).x(), (table_hi - table_lo).y(), (table_hi - table_lo).z()}}}, 201);
-  d.Call("POST", maps + "/instances", {{"kind", "furniture"}, {"label", "shelf"}, {"position", {shelf_c.x(), shelf_c.y(), shelf_c.z()}},
-                                       {"extent", {(shelf_hi - shelf_lo).x(), (shelf_hi - shelf_lo).y(), (shelf_hi - shelf_lo).z()}}}, 201);
+  result.table_centre_m = 0.5 * (table_lo + table_hi).head<2>();
+  result.table_extent_m = (table_hi - table_lo).head<2>();
+  if (o.enter_furniture) {
+    d.Call("POST", maps + "/instances", {{"kind", "furniture"}, {"label", "table"}, {"position", {0.5 * (table_lo + table_hi).x(), 0.5 * (table_lo + table_hi).y(), 0.5 * (table_lo + table_hi).z()}},
+                                         {"extent", {(table_hi - table_lo).x(), (table_hi - table_lo).y(), (table_hi - table_lo).z()}}}, 201);
+    d.Call("POST", maps + "/instances", {{"kind", "furniture"}, {"label", "shelf"}, {"position", {shelf_c.x(), shelf_c.y(), shelf_c.z()}},
+                                         {"extent", {(shelf_hi - shelf_lo).x(), (shelf_hi - shelf_lo).y(), (shelf_hi - shelf_lo).z()}}}, 201);
+  }
 
   const Eigen::Vector3d top = a.surface_point_m;
   const auto on_table = [&](double dx, double dy, double height) {
@@ -125,6 +132,17 @@ LostKeyResult RunLostKeyScenario(httplib::Client& client, const LostKeyOptions& 
   result.expected.push_back({"added", "observed", "A", "object 2", c2});
   result.keys_true_m = c2;
 
+  if (o.segment_furniture) {
+    const json ticket = d.Call("POST", maps + "/furniture:segment", json::object(), 202);
+    const std::string path = "/v1/jobs/" + std::to_string(ticket["job"].get<std::int64_t>());
+    for (int i = 0; i < 3000; ++i) {
+      result.segmentation = d.Call("GET", path, json(), 200);
+      const std::string status = result.segmentation.value("status", "");
+      if (status == "succeeded" || status == "failed") break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    d.Log("segmentation: " + result.segmentation.value("status", std::string("?")));
+  }
   result.events = d.Call("GET", maps + "/events?limit=1000", json(), 200)["events"];
   auto r = client.Get(maps + "/where?label=keys");
   result.where = r ? json::parse(r->body, nullptr, false) : json();

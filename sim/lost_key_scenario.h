@@ -30,6 +30,11 @@ struct LostKeyOptions {
   std::int64_t start_ns = 1'767'225'600'000'000'000;  // 2026-01-01; the scenario spans a few simulated minutes
   bool create_map = true;
   bool kind_sensor = false;  // render with sim::KindSensor() (the sensor before issue 13) instead of the default
+  // Furniture: the client enters the table and the shelf as instances (the default), or nobody does and, with
+  // `segment_furniture`, the robot finds them itself (POST .../furniture:segment over its keyframes, issue 16)
+  // before the where-is questions are asked.
+  bool enter_furniture = true;
+  bool segment_furniture = false;
   std::function<void(const std::string&)> log;  // progress lines (the demo prints them)
 };
 
@@ -49,6 +54,9 @@ struct LostKeyResult {
   Eigen::Vector3d keys_true_m = Eigen::Vector3d::Zero();  // where object 2 really is at the end (at A)
   Eigen::Vector3d keys_before_m = Eigen::Vector3d::Zero();  // where it was before (at B)
   std::string keys_furniture = "table";
+  Eigen::Vector2d table_centre_m = Eigen::Vector2d::Zero();  // the true table footprint at A
+  Eigen::Vector2d table_extent_m = Eigen::Vector2d::Zero();
+  nlohmann::json segmentation;  // the segmentation job (segment_furniture), as GET /v1/jobs/{id} shows it at the end
 };
 
 // Throws std::runtime_error when the server answers a request with an unexpected status.

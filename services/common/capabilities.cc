@@ -1,5 +1,7 @@
 #include "services/capabilities.h"
 
+#include "engine/grounding/knowledge.h"
+
 #include "services/events/event_settings.h"
 #include "services/features/feature_settings.h"
 #include "services/furniture/furniture_settings.h"
@@ -9,6 +11,15 @@
 #include "services/scene/scene_settings.h"
 
 namespace anchordb::services {
+
+namespace {
+std::vector<std::string> CategoryIds(const std::string& knowledge_json) {
+  std::vector<std::string> ids;
+  const engine::grounding::Knowledge knowledge = engine::grounding::LoadKnowledge(knowledge_json);
+  for (const auto& c : knowledge.categories.all()) ids.push_back(c.id);
+  return ids;
+}
+}  // namespace
 
 void BindCapabilitySettings(SettingsBinder& b, CapabilityOptions& o) {
   BindGridSettings(b, o.limits, o.grid);
@@ -34,7 +45,8 @@ Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, co
       features(store, jobs, o.features, clock),
       keyframe_features(features, &octomap_feed, o.features.extract_every_keyframe),
       classifiers(store, jobs, features, grid, clock),
-      shapes(store, jobs, o.shapes, clock) {
+      shapes(store, jobs, o.shapes, clock),
+      segmentation(store, jobs, CategoryIds(furniture.knowledge_json()), clock) {
   // Stored keyframes go to feature extraction (by setting), then the OctoMap feed, then the analysis queue.
   scenes.SetKeyframeListener(&keyframe_features);
 }

@@ -2,11 +2,14 @@
 
 #include <algorithm>
 
+#include <nlohmann/json.hpp>
+
 #include "services/furniture/furniture_service_internal.h"
 #include "engine/grounding/ambiguity.h"
 #include "engine/grounding/orientation_prior.h"
 #include "engine/grounding/readings.h"
 #include "storage/hypotheses_codec.h"
+#include "storage/event_repository.h"
 #include "storage/repositories.h"
 
 namespace anchordb::services {
@@ -16,6 +19,37 @@ using namespace furniture_detail;  // NOLINT: the graph's helpers are this file'
 namespace {
 
 Error NoMap(const std::string& map) { return Error(ErrorCode::kNotFound, "map '" + map + "' does not exist", "map"); }
+
+// The map's furniture instances as pieces of a graph (CreateGraphRequest::from_instances).
+std::vector<FurniturePieceRequest> PiecesFromInstances(storage::Store& store, const std::string& map, const g::CategoryTable& table) {
+  std::vector<FurniturePieceRequest> out;
+  store.Read([&](storage::Connection& c) {
+    if (!storage::FindMap(c, map)) throw NoMap(map);
+    storage::InstanceFilter f;
+    f.kind = "furniture";
+    f.limit = 100000;
+    for (const auto& r : storage::ListInstances(c, map, f, false)) {
+      const nlohmann::json labels = nlohmann::json::parse(r.labels_json, nullptr, false);
+      FurniturePieceRequest piece;
+      piece.id = "f" + std::to_string(r.id);
+      piece.position_m = Eigen::Vector2d(r.position[0], r.position[1]);
+      piece.extent_m = Eigen::Vector2d(r.extent[0], r.extent[1]);
+      piece.yaw_rad = r.yaw_rad;
+      double sum = 0.0;
+      if (labels.is_object()) {
+        for (const auto& [word, weight] : labels.items()) {
+          if (!weight.is_number() || table.IndexOfWord(word) < 0) continue;
+          piece.categories.push_back({word, weight.get<double>()});
+          sum += weight.get<double>();
+        }
+      }
+      if (sum > 0.0) out.push_back(std::move(piece));
+    }
+    return 0;
+  });
+  if (out.empty()) throw Error(ErrorCode::kUnprocessable, "the map has no furniture instance of a known category", "from_instances");
+  return out;
+}
 
 }  // namespace
 
@@ -57,7 +91,8 @@ GraphView FurnitureService::Create(const std::string& map, const CreateGraphRequ
   graph->knowledge = g::LoadKnowledge(knowledge_json_);
   graph->viewpoint = request.viewpoint;
   graph->params = ResolveParams(request.params, settings_);
-  const auto furniture = ResolveFurniture(request.furniture, graph->knowledge.categories, settings_.max_furniture);
+  const auto furniture = ResolveFurniture(request.from_instances ? PiecesFromInstances(store_, map, graph->knowledge.categories) : request.furniture,
+                                          graph->knowledge.categories, settings_.max_furniture);
   graph->graph = g::BuildFurnitureGraph(graph->viewpoint, furniture, graph->knowledge.categories.size(),
                                         g::GraphParams{graph->params.edge_max_gap_m, graph->params.relation_sharpness});
   if (graph->params.orientation_prior == OrientationPrior::kRoom) {

@@ -68,6 +68,10 @@ struct CreateGraphRequest {
   engine::grounding::Viewpoint viewpoint;      // where the furniture is seen from (M)
   std::vector<FurniturePieceRequest> furniture;  // at least two pieces with an edge; at most max_furniture
   GraphParamsRequest params;
+  // Instead of `furniture`: the map's furniture instances (found by segmentation or entered by an operator), each
+  // with its p(f) over the categories of the knowledge table (labels that are no category word are left out; an
+  // instance with none is left out), footprint and yaw; vertex ids "f<instance id>".
+  bool from_instances = false;
 };
 
 // One spoken description: a sentence, or the three words (category word, relation word or id, category word).

@@ -1,0 +1,387 @@
+#include "services/segmentation/furniture_segmentation_service.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <set>
+
+#include "engine/scene/projection.h"
+#include "engine/segmentation/footprint.h"
+#include "engine/segmentation/geometric_categories.h"
+#include "schema/error.h"
+#include "services/common/require.h"
+#include "services/scene/keyframe_listener.h"
+#include "storage/blob_codec.h"
+#include "storage/event_repository.h"
+#include "storage/furniture_instance_repository.h"
+
+namespace anchordb::services {
+namespace {
+
+using Json = nlohmann::json;
+namespace seg = engine::segmentation;
+
+struct Camera {
+  std::int64_t keyframe = 0;
+  PinholeIntrinsics K;
+  Eigen::Isometry3d X_MapCamera = Eigen::Isometry3d::Identity();
+  std::vector<std::uint16_t> depth_mm;
+};
+
+std::string EncodeCloudBlob(const std::vector<Eigen::Vector3f>& points) {
+  std::vector<float> flat;
+  flat.reserve(points.size() * 3);
+  for (const auto& p : points) flat.insert(flat.end(), {p.x(), p.y(), p.z()});
+  return storage::EncodeBlob(storage::BlobElement::kF32, {static_cast<std::uint32_t>(points.size()), 3}, storage::AsBytes(flat), 1);
+}
+
+std::vector<Eigen::Vector3f> DecodeCloudBlob(const std::string& blob) {
+  std::vector<Eigen::Vector3f> out;
+  if (blob.empty()) return out;
+  const std::optional<std::vector<float>> xyz = storage::DecodeArray<float>(blob, storage::BlobElement::kF32);
+  if (!xyz || xyz->size() % 3 != 0) throw Error(ErrorCode::kInternal, "a stored furniture cloud does not decode");
+  for (std::size_t i = 0; i + 2 < xyz->size(); i += 3) out.emplace_back((*xyz)[i], (*xyz)[i + 1], (*xyz)[i + 2]);
+  return out;
+}
+
+std::map<std::string, double> Labels(const std::string& text) {
+  const Json j = Json::parse(text, nullptr, false);
+  std::map<std::string, double> out;
+  if (j.is_object()) {
+    for (const auto& [k, v] : j.items()) {
+      if (v.is_number()) out[k] = v.get<double>();
+    }
+  }
+  return out;
+}
+
+bool IsPerceived(const storage::InstanceRecord& r, const std::set<std::int64_t>& perceived) { return perceived.count(r.id) > 0; }
+
+seg::Footprint FootprintOfInstance(const storage::InstanceRecord& r) {
+  seg::Footprint f;
+  f.centre_m = Eigen::Vector2d(r.position[0], r.position[1]);
+  f.extent_m = Eigen::Vector2d(r.extent[0], r.extent[1]);
+  f.yaw_rad = r.yaw_rad;
+  return f;
+}
+
+FurnitureInstanceView ViewOf(const storage::InstanceRecord& r, const std::optional<storage::FurnitureInstanceRecord>& f) {
+  FurnitureInstanceView v;
+  v.id = r.id;
+  v.perceived = f.has_value();
+  double sum = 0.0;
+  for (const auto& [k, w] : Labels(r.labels_json)) v.categories.push_back({k, w}), sum += w;
+  for (auto& c : v.categories) c.probability = sum > 0 ? c.probability / sum : 0.0;
+  std::stable_sort(v.categories.begin(), v.categories.end(), [](const CategoryShare& a, const CategoryShare& b) { return a.probability > b.probability; });
+  if (!v.categories.empty()) v.label = v.categories.front().category, v.label_probability = v.categories.front().probability;
+  v.position_m = Eigen::Vector2d(r.position[0], r.position[1]);
+  v.extent_m = Eigen::Vector2d(r.extent[0], r.extent[1]);
+  v.yaw_rad = r.yaw_rad;
+  v.updated_ns = r.updated_ns;
+  if (f) {
+    v.min_z_m = f->min_z_m;
+    v.height_m = f->height_m;
+    v.classifier = f->classifier;
+    const Json e = Json::parse(f->evidence_json, nullptr, false);
+    if (e.is_array()) v.evidence = e.get<std::vector<std::int64_t>>();
+    v.observations = f->observations;
+  } else {
+    v.min_z_m = r.position[2] - 0.5 * r.extent[2];
+    v.height_m = r.extent[2];
+    v.classifier = "operator";
+  }
+  return v;
+}
+
+// The keyframes whose camera saw the segment: its centroid projects into the image within range and is not hidden
+// behind a nearer surface of that keyframe's depth.
+std::vector<std::int64_t> EvidenceOf(const seg::FurnitureSegment& s, const std::vector<Camera>& cameras, double max_range_m) {
+  std::vector<std::int64_t> out;
+  for (const Camera& cam : cameras) {
+    int seen = 0, tried = 0;
+    const std::size_t step = std::max<std::size_t>(1, s.points_m.size() / 50);
+    for (std::size_t i = 0; i < s.points_m.size(); i += step) {
+      ++tried;
+      const Eigen::Vector3d p_C = cam.X_MapCamera.inverse() * s.points_m[i].cast<double>();
+      if (p_C.z() <= 0.1 || p_C.z() > max_range_m) continue;
+      const double u = cam.K.fx * p_C.x() / p_C.z() + cam.K.cx, v = cam.K.fy * p_C.y() / p_C.z() + cam.K.cy;
+      if (u < 0 || v < 0 || u >= cam.K.width || v >= cam.K.height) continue;
+      const std::uint16_t d = cam.depth_mm[static_cast<std::size_t>(v) * static_cast<std::size_t>(cam.K.width) + static_cast<std::size_t>(u)];
+      if (d > 0 && std::abs(d / 1000.0 - p_C.z()) < 0.1) ++seen;
+    }
+    if (tried > 0 && seen * 5 >= tried) out.push_back(cam.keyframe);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// p(f) over the knowledge's categories: the shape prior, times the shape model's verification when there is one.
+std::vector<double> Classify(const seg::FurnitureSegment& s, std::optional<double> floor_z_m, const std::vector<std::string>& ids,
+                             const engine::ShapeModel* model) {
+  std::vector<double> p = seg::GeometricCategories(seg::MeasureSegment(s, floor_z_m), ids);
+  if (!model) return p;
+  const auto scores = VerifySegment(*model, s.points_m);
+  double total = 0.0;
+  for (const auto& score : scores) total += score.second;
+  if (!(total > 0.0)) return p;  // no ray voted: the prior alone
+  const double floor = 0.05;  // a category the model does not know keeps a share of its prior
+  double sum = 0.0;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    double q = floor;
+    for (const auto& score : scores) {
+      if (score.first == ids[i]) q = floor + score.second;
+    }
+    sum += p[i] *= q;
+  }
+  for (double& x : p) x /= sum;
+  return p;
+}
+
+}  // namespace
+
+SegmentationOutcome RunSegmentation(const FurnitureSegmentationService::Core& core, const std::string& map,
+                                    const SegmentationRequest& r, std::optional<std::int64_t> job_id);
+
+FurnitureSegmentationService::FurnitureSegmentationService(storage::Store& store, JobService& jobs, std::vector<std::string> category_ids,
+                                                           const Clock& clock, ShapeModelLookup lookup)
+    : store_(store), jobs_(jobs), core_(std::make_shared<Core>(Core{store, std::move(category_ids), clock, std::move(lookup)})) {
+  JobKind kind;
+  kind.name = "furniture_segment";
+  kind.first_stage = "reading";
+  kind.needs_map = true;
+  kind.check = [](const JobSubmission& s) { CheckSegmentationRequest(SegmentationRequestFromDocument(s.request)); };
+  // Captures the shared core, not the service: the job service may still run this while the capabilities are
+  // destroyed.
+  kind.run = [core = core_](JobContext& job) -> std::optional<std::string> {
+    job.Progress("segmenting", 0.1);
+    const SegmentationOutcome out = RunSegmentation(*core, *job.map(), SegmentationRequestFromDocument(job.request()), job.id());
+    Json segments = Json::array();
+    for (const SegmentOutcome& s : out.segments) {
+      segments.push_back({{"action", s.action}, {"furniture", s.instance.id}, {"label", s.instance.label},
+                          {"label_probability", s.instance.label_probability},
+                          {"position_m", {s.instance.position_m.x(), s.instance.position_m.y()}},
+                          {"extent_m", {s.instance.extent_m.x(), s.instance.extent_m.y()}}, {"yaw_rad", s.instance.yaw_rad},
+                          {"height_m", s.instance.height_m}, {"points", s.instance.points},
+                          {"cloud", "/v1/maps/" + *job.map() + "/furniture/" + std::to_string(s.instance.id) + "/cloud"}});
+    }
+    return Json{{"input_points", out.input_points}, {"thinned_points", out.thinned_points}, {"remaining_points", out.remaining_points},
+                {"planes", out.planes}, {"small_clusters", out.small_clusters}, {"flying_dropped", out.flying_dropped},
+                {"floor_z_m", out.floor_z_m ? Json(*out.floor_z_m) : Json()}, {"segments", segments}, {"seconds", out.seconds}}.dump();
+  };
+  jobs_.Register(std::move(kind));
+}
+
+JobTicket FurnitureSegmentationService::Submit(const std::string& map, const SegmentationRequest& request) {
+  CheckSegmentationRequest(request);
+  if (request.shape_model && (!core_->lookup || !core_->lookup(*request.shape_model))) {
+    throw Error(ErrorCode::kNotFound, "shape model '" + *request.shape_model + "' does not exist", "shape_model");
+  }
+  return jobs_.Submit("furniture_segment", map, SegmentationRequestDocument(request));
+}
+
+SegmentationOutcome FurnitureSegmentationService::Run(const std::string& map, const SegmentationRequest& r, std::optional<std::int64_t> job_id) {
+  return RunSegmentation(*core_, map, r, job_id);
+}
+
+SegmentationOutcome RunSegmentation(const FurnitureSegmentationService::Core& core, const std::string& map,
+                                    const SegmentationRequest& r, std::optional<std::int64_t> job_id) {
+  storage::Store& store_ = core.store;
+  const std::vector<std::string>& category_ids_ = core.category_ids;
+  const Clock& clock_ = core.clock;
+  const auto& lookup_ = core.lookup;
+  CheckSegmentationRequest(r);
+  std::shared_ptr<const engine::ShapeModel> model;
+  if (r.shape_model) {
+    if (lookup_) model = lookup_(*r.shape_model);
+    if (!model) throw Error(ErrorCode::kNotFound, "shape model '" + *r.shape_model + "' does not exist", "shape_model");
+  }
+  // 1. The room cloud.
+  std::vector<Camera> cameras;
+  std::vector<Eigen::Vector3f> cloud;
+  store_.Read([&](storage::Connection& c) {
+    RequireMap(c, map);
+    if (r.source == SegmentationSource::kOctomap) return 0;
+    const std::vector<std::int64_t> ids = r.keyframes.empty() ? storage::NewestKeyframeIds(c, map, r.max_keyframes) : r.keyframes;
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      std::optional<KeyframeNotice> kf = LoadKeyframeNotice(c, map, ids[i]);
+      if (!kf) throw Error(ErrorCode::kNotFound, "keyframe " + std::to_string(ids[i]) + " does not exist in map '" + map + "'", "keyframes[" + std::to_string(i) + "]");
+      // By default only the keyframes that open and close an observation: between them a person may stand in
+      // the view long enough to enter the static background.
+      if (r.keyframes.empty() && kf->kind != "begin" && kf->kind != "end") continue;
+      // The keyframe's own depth, not its model's static background: a person who stood still in the view may
+      // linger in the background after leaving.
+      std::vector<std::uint16_t> depth = kf->depth_mm;
+      const double max_mm = r.max_range_m * 1000.0;
+      for (auto& d : depth) {
+        if (d > max_mm) d = 0;
+      }
+      const auto points = engine::BackProjectRaw(depth, 1000.0, kf->K, kf->X_MapCamera);
+      cloud.insert(cloud.end(), points.begin(), points.end());
+      cameras.push_back({kf->keyframe_id, kf->K, kf->X_MapCamera, std::move(depth)});
+    }
+    return 0;
+  });
+  if (r.source == SegmentationSource::kOctomap) {
+    throw Error(ErrorCode::kUnprocessable, "the octomap source is not wired in this build; use source keyframes", "source");
+  }
+  if (cloud.empty()) throw Error(ErrorCode::kUnprocessable, "the room cloud is empty (no keyframe, or no depth within max_range_m)", "keyframes");
+
+  // 2. Segments (outside any transaction).
+  const auto t0 = std::chrono::steady_clock::now();
+  const seg::SegmentationResult result = seg::SegmentFurniture(cloud, r.params);
+  SegmentationOutcome out;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.input_points = result.input_points;
+  out.thinned_points = result.thinned_points;
+  out.remaining_points = result.remaining_points;
+  for (const auto& p : result.planes) out.planes.push_back(seg::PlaneRoleName(p.role));
+  out.small_clusters = result.small_clusters;
+  out.flying_dropped = result.flying_dropped;
+  out.floor_z_m = result.floor_z_m;
+  struct Classified {
+    std::vector<double> p;
+    std::vector<std::int64_t> evidence;
+  };
+  std::vector<Classified> classified;
+  for (const seg::FurnitureSegment& s : result.segments) {
+    classified.push_back({Classify(s, result.floor_z_m, category_ids_, model.get()), EvidenceOf(s, cameras, r.max_range_m)});
+  }
+  const std::string classifier = model ? "shape_model:" + *r.shape_model : "geometry";
+
+  // 3. Instances, in one write.
+  const std::int64_t now = clock_.NowNs();
+  store_.Write([&](storage::Connection& c) {
+    RequireMap(c, map);
+    storage::InstanceFilter f;
+    f.kind = "furniture";
+    f.limit = 100000;
+    std::vector<storage::InstanceRecord> known = storage::ListInstances(c, map, f, false);
+    std::set<std::int64_t> perceived;
+    for (const auto& fr : storage::ListFurnitureInstances(c, map, false)) perceived.insert(fr.instance_id);
+    for (std::size_t k = 0; k < result.segments.size(); ++k) {
+      const seg::FurnitureSegment& s = result.segments[k];
+      int best = -1;
+      double best_iou = 0.0;
+      for (std::size_t i = 0; i < known.size(); ++i) {
+        const double iou = seg::FootprintIoU(s.footprint, FootprintOfInstance(known[i]));
+        if (iou > best_iou) best_iou = iou, best = static_cast<int>(i);
+      }
+      SegmentOutcome o;
+      if (best >= 0 && best_iou >= r.match_iou && !IsPerceived(known[static_cast<std::size_t>(best)], perceived)) {
+        o.action = "kept_operator";
+        o.instance = ViewOf(known[static_cast<std::size_t>(best)], std::nullopt);
+        out.segments.push_back(std::move(o));
+        continue;
+      }
+      storage::InstanceRecord inst;
+      storage::FurnitureInstanceRecord fr;
+      std::map<std::string, double> labels;
+      std::set<std::int64_t> evidence(classified[k].evidence.begin(), classified[k].evidence.end());
+      const bool update = best >= 0 && best_iou >= r.match_iou;
+      if (update) {
+        inst = known[static_cast<std::size_t>(best)];
+        fr = *storage::FindFurnitureInstance(c, map, inst.id, false);
+        const Json e = Json::parse(fr.evidence_json, nullptr, false);
+        if (e.is_array()) for (const auto& id : e) evidence.insert(id.get<std::int64_t>());
+        const std::map<std::string, double> old = Labels(inst.labels_json);
+        const double n = static_cast<double>(fr.observations);
+        for (std::size_t i = 0; i < category_ids_.size(); ++i) {
+          const auto it = old.find(category_ids_[i]);
+          labels[category_ids_[i]] = ((it == old.end() ? 0.0 : it->second) * n + classified[k].p[i]) / (n + 1.0);
+        }
+        fr.observations += 1;
+      } else {
+        inst.map_id = map;
+        inst.kind = "furniture";
+        inst.created_ns = now;
+        for (std::size_t i = 0; i < category_ids_.size(); ++i) labels[category_ids_[i]] = classified[k].p[i];
+        fr.created_ns = now;
+        fr.observations = 1;
+      }
+      inst.labels_json = Json(labels).dump();
+      inst.label_locked = false;
+      inst.status = "present";
+      inst.position[0] = s.footprint.centre_m.x();
+      inst.position[1] = s.footprint.centre_m.y();
+      inst.position[2] = 0.5 * (s.footprint.min_z_m + s.footprint.max_z_m);
+      inst.extent[0] = s.footprint.extent_m.x();
+      inst.extent[1] = s.footprint.extent_m.y();
+      inst.extent[2] = s.footprint.height_m();
+      inst.yaw_rad = s.footprint.yaw_rad;
+      inst.last_seen_ns = now;
+      inst.updated_ns = now;
+      if (update) {
+        storage::UpdateInstance(c, inst);
+      } else {
+        inst.id = storage::InsertInstance(c, inst);
+        storage::AppendHistory(c, {inst.id, 0, now, true, {inst.position[0], inst.position[1], inst.position[2]}, std::nullopt});
+        known.push_back(inst);
+        perceived.insert(inst.id);
+      }
+      fr.instance_id = inst.id;
+      fr.map_id = map;
+      fr.classifier = classifier;
+      fr.min_z_m = s.footprint.min_z_m;
+      fr.height_m = s.footprint.height_m();
+      fr.evidence_json = Json(std::vector<std::int64_t>(evidence.begin(), evidence.end())).dump();
+      fr.job_id = job_id;
+      fr.cloud = EncodeCloudBlob(s.points_m);
+      fr.updated_ns = now;
+      storage::UpsertFurnitureInstance(c, fr);
+      o.action = update ? "updated" : "created";
+      o.instance = ViewOf(inst, fr);
+      o.instance.points = static_cast<std::int64_t>(s.points_m.size());
+      out.segments.push_back(std::move(o));
+    }
+    return 0;
+  });
+  return out;
+}
+
+std::vector<FurnitureInstanceView> FurnitureSegmentationService::List(const std::string& map) {
+  return store_.Read([&](storage::Connection& c) {
+    RequireMap(c, map);
+    storage::InstanceFilter f;
+    f.kind = "furniture";
+    f.limit = 100000;
+    std::map<std::int64_t, storage::FurnitureInstanceRecord> rows;
+    for (auto& fr : storage::ListFurnitureInstances(c, map, true)) rows[fr.instance_id] = std::move(fr);
+    std::vector<FurnitureInstanceView> out;
+    for (const auto& r : storage::ListInstances(c, map, f, false)) {
+      const auto it = rows.find(r.id);
+      out.push_back(ViewOf(r, it == rows.end() ? std::nullopt : std::optional(it->second)));
+      if (it != rows.end()) out.back().points = static_cast<std::int64_t>(DecodeCloudBlob(it->second.cloud).size());
+    }
+    return out;
+  });
+}
+
+FurnitureInstanceView FurnitureSegmentationService::Get(const std::string& map, std::int64_t id) {
+  return store_.Read([&](storage::Connection& c) {
+    RequireMap(c, map);
+    const auto r = storage::FindInstance(c, map, id, false);
+    if (!r || r->kind != "furniture" || r->status == "deleted") {
+      throw Error(ErrorCode::kNotFound, "furniture " + std::to_string(id) + " does not exist in map '" + map + "'", "furniture");
+    }
+    const auto fr = storage::FindFurnitureInstance(c, map, id, true);
+    FurnitureInstanceView v = ViewOf(*r, fr);
+    if (fr) v.points = static_cast<std::int64_t>(DecodeCloudBlob(fr->cloud).size());
+    return v;
+  });
+}
+
+ExportedLayer FurnitureSegmentationService::Cloud(const std::string& map, std::int64_t id, engine::CloudFormat format) {
+  const FurnitureInstanceView v = Get(map, id);
+  if (!v.perceived) throw Error(ErrorCode::kUnprocessable, "furniture " + std::to_string(id) + " was entered by an operator and has no cloud", "furniture");
+  const auto fr = store_.Read([&](storage::Connection& c) { return storage::FindFurnitureInstance(c, map, id, true); });
+  const std::vector<Eigen::Vector3f> points = DecodeCloudBlob(fr ? fr->cloud : std::string());
+  ExportedLayer out;
+  out.content_type = engine::CloudContentType(format);
+  out.body = engine::EncodeCloud(points, format);
+  out.headers = {{"X-Points", std::to_string(points.size())}, {"X-Frame", "map"}};
+  return out;
+}
+
+}  // namespace anchordb::services

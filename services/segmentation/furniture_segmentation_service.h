@@ -1,0 +1,73 @@
+#pragma once
+// Furniture the robot finds itself (thesis 5.3.1, issue 16): a room cloud (the map's keyframes merged in the map
+// frame, or the OctoMap's occupied voxel centres) is segmented (engine/segmentation), every segment classified
+// (a 3D shape model in verification mode when one is named, else by its gross shape,
+// engine/segmentation/geometric_categories.h) and written as a furniture instance: a new one, or an update of the
+// perceived piece its footprint overlaps (p(f) averaged over the observations, the newest geometry and cloud, the
+// evidence keyframes joined). A piece an operator entered is never changed. The work runs as a job
+// ("furniture_segment"); its result lists the segments.
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "schema/clock.h"
+#include "services/common/exported_bytes.h"
+#include "services/jobs/job_service.h"
+#include "services/segmentation/segmentation_types.h"
+#include "engine/cloud/cloud_io.h"
+#include "storage/store.h"
+
+namespace anchordb::engine {
+struct ShapeModel;  // engine/shapes/shape_model.h (not included here: its engine::Detection meets the events' enum)
+}
+
+namespace anchordb::services {
+
+// p(f) of a segment by a shape model in verification mode, as (category, probability) in the model's order
+// (services/segmentation/shape_verification.cc; all zero when no ray voted).
+std::vector<std::pair<std::string, double>> VerifySegment(const engine::ShapeModel& model, const std::vector<Eigen::Vector3f>& points_m);
+
+class FurnitureSegmentationService {
+ public:
+  // The stored shape model of a name (nullopt: no such model). May be empty: then naming a model is kNotFound.
+  using ShapeModelLookup = std::function<std::shared_ptr<const engine::ShapeModel>(const std::string&)>;
+  // `category_ids`: the grounding knowledge's categories (p(f) is over these).
+  FurnitureSegmentationService(storage::Store& store, JobService& jobs, std::vector<std::string> category_ids,
+                               const Clock& clock = SystemClock::Instance(), ShapeModelLookup lookup = {});
+
+  // Checks the request (Error naming "params.<name>", "keyframes", "max_range_m", "match_iou", "shape_model") and
+  // queues the job. Unknown map kNotFound.
+  JobTicket Submit(const std::string& map, const SegmentationRequest& request);
+  // What the job does, run here and now (tests, evaluations, benchmarks).
+  SegmentationOutcome Run(const std::string& map, const SegmentationRequest& request,
+                          std::optional<std::int64_t> job_id = std::nullopt);
+
+  // The furniture instances of the map (perceived and entered), by id.
+  std::vector<FurnitureInstanceView> List(const std::string& map);
+  FurnitureInstanceView Get(const std::string& map, std::int64_t id);  // kNotFound field "furniture"
+  // The stored cloud of a perceived piece; an operator's piece has none (kUnprocessable).
+  ExportedLayer Cloud(const std::string& map, std::int64_t id, engine::CloudFormat format);
+
+  // What a run needs, shared with the job's runner (which may outlive this object while the job service stops).
+  struct Core {
+    storage::Store& store;
+    std::vector<std::string> category_ids;
+    const Clock& clock;
+    ShapeModelLookup lookup;
+  };
+
+ private:
+  storage::Store& store_;
+  JobService& jobs_;
+  std::shared_ptr<Core> core_;
+};
+
+// The request as the job stores it, and back (services/segmentation/segmentation_request.cc).
+std::string SegmentationRequestDocument(const SegmentationRequest& r);
+SegmentationRequest SegmentationRequestFromDocument(const std::string& text);
+// Throws Error naming the field for a value out of range.
+void CheckSegmentationRequest(const SegmentationRequest& r);
+
+}  // namespace anchordb::services
