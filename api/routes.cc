@@ -2,6 +2,7 @@
 
 #include "api/audit_routes.h"
 #include "api/classifier_routes.h"
+#include "api/console_routes.h"
 #include "api/event_routes.h"
 #include "api/feature_routes.h"
 #include "api/furniture_routes.h"
@@ -9,6 +10,7 @@
 #include "api/job_routes.h"
 #include "api/octomap_routes.h"
 #include "api/scene_routes.h"
+#include "api/stream_routes.h"
 
 namespace anchordb::api {
 
@@ -22,6 +24,8 @@ void RegisterAllRoutes(Router& router, services::Capabilities& c) {
   RegisterOctomapRoutes(router, c.octomap);
   RegisterFeatureRoutes(router, c.features);
   RegisterClassifierRoutes(router, c.classifiers);
+  RegisterStreamRoutes(router, c.events, c.jobs);
+  RegisterConsoleRoutes(router);
   RegisterAuditRoutes(router, c.audit);  // last: it observes the routes above
 }
 
