@@ -19,13 +19,39 @@ async function floorPlan() {
   const canvas = Images.canvasOf(bitmap);
   return { canvas, geo: geometryOf(layer, bitmap), name: pick.name };
 }
-async function keyframeFigure(id, role) {
+// The pixel rectangle of a map-frame box (centre, extent [m]) seen by a scene's camera (pose of the optical frame in
+// the map frame, pinhole intrinsics), or null when it is behind the camera.
+function projectBox(scene, centre, extent) {
+  const [qx, qy, qz, qw] = scene.pose.orientation, t = scene.pose.position, k = scene.camera;
+  const R = [[1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw), 2 * (qx * qz + qy * qw)],
+             [2 * (qx * qy + qz * qw), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qx * qw)],
+             [2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy)]];
+  let u0 = Infinity, v0 = Infinity, u1 = -Infinity, v1 = -Infinity;
+  for (let c = 0; c < 8; ++c) {
+    const p = [0, 1, 2].map(i => centre[i] + ((c >> i) & 1 ? 0.5 : -0.5) * extent[i] - t[i]);
+    const q = [0, 1, 2].map(j => R[0][j] * p[0] + R[1][j] * p[1] + R[2][j] * p[2]);  // R^T (p - t)
+    if (q[2] <= 0.05) return null;
+    const u = k.fx * q[0] / q[2] + k.cx, v = k.fy * q[1] / q[2] + k.cy;
+    u0 = Math.min(u0, u); v0 = Math.min(v0, v); u1 = Math.max(u1, u); v1 = Math.max(v1, v);
+  }
+  return [u0, v0, u1 - u0, v1 - v0];
+}
+async function keyframeFigure(id, role, outline) {
   const kf = Api.bitmap(M() + '/keyframes/' + id + '/depth');
   const bg = Api.bitmap(M() + '/keyframes/' + id + '/background');
   const [d, b] = await Promise.all([kf, bg]);
   const box = el('div', { class: 'strip' });
-  box.append(Images.figure(Images.depthCanvas(d), 'keyframe ' + id + (role ? ' (' + role + ')' : '') + ' depth'),
-             Images.figure(Images.depthCanvas(b), 'background'));
+  const depth = Images.depthCanvas(d), background = Images.depthCanvas(b);
+  if (outline) {
+    for (const c of [depth, background]) {
+      const ctx = c.getContext('2d');
+      ctx.strokeStyle = '#ff2d55'; ctx.lineWidth = 3;
+      ctx.strokeRect(...outline);
+      c.dataset.outline = outline.map(Math.round).join(',');
+    }
+  }
+  box.append(Images.figure(depth, 'keyframe ' + id + (role ? ' (' + role + ')' : '') + ' depth'),
+             Images.figure(background, 'background'));
   return box;
 }
 
@@ -40,11 +66,12 @@ Console.views.layers = {
     form.agent.replaceChildren(...agents.map(a => el('option', {}, a.id || a.agent)));
     form.layer.replaceChildren(...layers.filter(l => l.kind === 'probability').map(l => el('option', {}, l.name)));
     for (const l of layers) {
-      const meta = await Api.get(M() + '/layers/' + encodeURIComponent(l.name) + '?format=json');
+      const meta = await Api.get(M() + '/layers/' + encodeURIComponent(l.name) + '?format=json&statistics=true');
       const bitmap = await Api.bitmap(M() + '/layers/' + encodeURIComponent(l.name) + '?format=png');
       const canvas = l.kind === 'probability' ? Images.probabilityCanvas(bitmap) : Images.canvasOf(bitmap);
       canvas.dataset.layer = l.name;
       canvas.dataset.kind = l.kind;
+      canvas.style.width = Math.min(480, canvas.width * 4) + 'px';
       const caption = el('div', {}, el('b', {}, l.name), ' ' + l.kind + ' ' + bitmap.width + 'x' + bitmap.height);
       if (l.kind === 'probability') {
         caption.append(Images.legend('p'));
@@ -74,8 +101,10 @@ Console.views.layers = {
           } catch (e) { /* no attention for this layer */ }
         }
       }
-      if (l.kind === 'label' && meta.statistics) {
-        caption.append(el('div', {}, 'categories: ' + Object.entries(meta.statistics.cells_per_label || {}).map(([k, v]) => k + ' (' + v + ')').join(', ')));
+      if (l.kind === 'label') {
+        const cells = (meta.statistics && meta.statistics.cells_per_label) || {};
+        caption.append(el('div', { class: 'categories' }, 'categories: ' + Object.entries(meta.labels || {}).map(([id, name]) =>
+          id + ' ' + name + (cells[name] !== undefined ? ' (' + cells[name] + ' cells)' : '')).join(', ')));
       }
       if (l.kind === 'occupancy' && meta.statistics) caption.append(kv(meta.statistics));
       box.append(Images.figure(canvas, caption));
@@ -121,6 +150,20 @@ $('#viewpoint-form').addEventListener('submit', async ev => {
   } catch (e) { Console.fail(e); }
 });
 
+// The merge report: per earlier model used, its ICP correction and how many pixels each rule took or rejected.
+function mergeReport(m) {
+  const used = m.models_used || [];
+  const rest = Object.fromEntries(Object.entries(m).filter(([k]) => k !== 'models_used'));
+  const rows = used.map(u => {
+    const icp = u.icp || {}, c = icp.correction || {};
+    return el('tr', {}, el('td', {}, String(u.scene)),
+      el('td', {}, icp.applied ? fmtVec(c.translation_m || []) + ' m, ' + ((c.rotation_rad || 0) * 180 / Math.PI).toFixed(2) + ' deg' : 'not applied'),
+      el('td', {}, Object.entries(u.rasterise || {}).map(([k, v]) => k + ' ' + v).join(', ')));
+  });
+  return el('div', {}, el('table', { class: 'table', id: 'merge-models' }, el('tr', {}, el('th', {}, 'model'),
+    el('th', {}, 'ICP correction'), el('th', {}, 'pixels per rule')), ...rows), kv(rest));
+}
+
 // ---- Scene models ------------------------------------------------------------------------------------------------
 Console.views.scenes = {
   async show() {
@@ -156,7 +199,7 @@ Console.views.scenes = {
     detail.replaceChildren(el('h3', {}, 'scene ' + id + ' (' + s.status + ')'),
       kv({ frames: s.frames, movable_pixels: s.statistics.movable_pixels, dynamic_pixels: s.statistics.dynamic_pixels,
            known_background_pixels: s.statistics.known_background_pixels, started: fmtTime(s.started_ns), superseded_by: s.superseded_by }),
-      row, el('h4', {}, 'merge report'), s.merge ? kv(s.merge) : 'no merge', el('h4', {}, 'keyframes'), strip);
+      row, el('h4', {}, 'merge report'), s.merge ? mergeReport(s.merge) : 'no merge', el('h4', {}, 'keyframes'), strip);
     detail.dataset.movablePixels = s.statistics.movable_pixels;
   },
 };
@@ -215,7 +258,12 @@ Console.views.events = {
       detection: e.detection, instance: e.instance, label: e.label, scene: e.scene }), edit);
     if (e.details && e.details.segment) box.append(el('p', {}, 'segment: centroid ' + fmtVec(e.details.segment.centroid_m) +
       ' m, extent ' + fmtVec(e.details.segment.extent_m) + ' m, ' + e.details.segment.points + ' points'));
-    for (const k of e.evidence || []) box.append(await keyframeFigure(k.keyframe, k.role));
+    let outline = null;
+    if (e.details && e.details.segment && e.scene !== null) {
+      const scene = await Api.get(M() + '/scenes/' + e.scene);
+      outline = projectBox(scene, e.details.segment.centroid_m, e.details.segment.extent_m);
+    }
+    for (const k of e.evidence || []) box.append(await keyframeFigure(k.keyframe, k.role, outline));
     Console.applyRole();
   },
   onMessage(kind, data) {
@@ -278,6 +326,7 @@ $('#where-form').addEventListener('submit', async ev => {
       ctx.strokeStyle = '#e11d48'; ctx.lineWidth = 2;
       ctx.beginPath(); ctx.arc(x, y, 6, 0, 2 * Math.PI); ctx.stroke();
       plan.canvas.id = 'where-map';
+      plan.canvas.style.width = Math.min(480, plan.canvas.width * 4) + 'px';
       box.append(Images.figure(plan.canvas, 'marker: ' + fmtVec(a.position_m) + ' m on ' + plan.name));
     }
     for (const k of a.evidence || []) box.append(await keyframeFigure(k.keyframe, k.role));
@@ -343,7 +392,8 @@ Console.views.furniture = {
       ev.preventDefault();
       try {
         const u = await Api.post(M() + '/furniture-graphs/' + id + ':describe', { located: speak.located.value, reference: speak.reference.value });
-        said.textContent = u.phrase || u.sentence || JSON.stringify(u);
+        said.textContent = u.sentence || ('The ' + (u.located.name || u.located.vertex) + ' is ' + u.phrase + ' the ' +
+          (u.reference.name || u.reference.vertex) + '.');
         if (window.speechSynthesis) speechSynthesis.speak(new SpeechSynthesisUtterance(said.textContent));
       } catch (x) { Console.fail(x); }
     });
