@@ -96,12 +96,11 @@ struct Client::Impl {
   // Sends one request; returns the body of a 2xx answer, throws otherwise.
   std::string Send(const std::string& method, const std::string& path, const std::string& body,
                    const std::string& content_type) {
-    httplib::Result r;
     const auto h = Headers();
-    if (method == "GET") r = http.Get(path.c_str(), h);
-    else if (method == "DELETE") r = http.Delete(path.c_str(), h);
-    else if (method == "PUT") r = http.Put(path.c_str(), h, body, content_type.c_str());
-    else r = http.Post(path.c_str(), h, body, content_type.c_str());
+    httplib::Result r = method == "GET"      ? http.Get(path.c_str(), h)
+                        : method == "DELETE" ? http.Delete(path.c_str(), h)
+                        : method == "PUT"    ? http.Put(path.c_str(), h, body, content_type.c_str())
+                                             : http.Post(path.c_str(), h, body, content_type.c_str());
     if (!r) throw TransportError(method + " " + path + ": " + httplib::to_string(r.error()));
     if (r->status < 200 || r->status >= 300) {
       const Json doc = Json::parse(r->body, nullptr, false);
