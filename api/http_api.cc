@@ -86,6 +86,19 @@ void HttpApi::AddSystemRoutes() {
   router_.Add("GET", "/v1/openapi.json", Role::kPublic, "This API's OpenAPI 3 description", [](const auto&, const auto&) {
     return Response{200, "application/json", OpenApiDocument(), {}};
   });
+  router_.Add("GET", "/v1/whoami", Role::kPublic,
+              "The caller: its token id and role (what the console's edit controls follow); 401 for an unknown token",
+              [this](const httplib::Request& req, const auto&) {
+                Json out = {{"auth_required", options_.auth_required}, {"token", nullptr}, {"role", nullptr}};
+                if (!options_.auth_required) {
+                  out["token"] = "loopback", out["role"] = RoleName(Role::kAdmin);  // no role is checked
+                } else if (const std::string h = req.get_header_value("Authorization"); h.rfind("Bearer ", 0) == 0 && h.size() > 7) {
+                  const auto found = options_.authenticate ? options_.authenticate(h.substr(7)) : std::nullopt;
+                  if (!found || !found->role) throw Error(ErrorCode::kUnauthenticated, "the Bearer token is not known to this server");
+                  out["token"] = found->token_id, out["role"] = RoleName(*found->role);
+                }
+                return Response{200, "application/json", out.dump(), {}};
+              });
   router_.Add("GET", "/v1/settings", Role::kReader, "Every server setting with its description and value",
               [this](const auto&, const auto&) {
                 return Response{200, "application/json", (options_.settings ? options_.settings() : Json::object()).dump(), {}};
@@ -230,7 +243,17 @@ void HttpApi::Dispatch(const Route& route, const std::vector<std::string>& names
                                       : call();
     res.status = out.status;
     for (const auto& [k, v] : out.headers) res.set_header(k, v);
-    res.set_content(std::move(out.body), out.content_type);
+    if (out.stream) {
+      res.set_chunked_content_provider(out.content_type, [stream = std::move(out.stream)](std::size_t, httplib::DataSink& sink) {
+        try {
+          return stream(sink);
+        } catch (const std::exception&) {
+          return false;  // the headers are out: the client sees the stream end and reconnects
+        }
+      });
+    } else {
+      res.set_content(std::move(out.body), out.content_type);
+    }
   } catch (const Error& e) {
     SetError(res, e.code(), e.what(), e.field());
     if (e.code() == ErrorCode::kUnauthenticated) res.set_header("WWW-Authenticate", "Bearer");

@@ -2,6 +2,7 @@
 #include "api/job_routes.h"
 
 #include "api/job_json.h"
+#include "api/request_limits.h"
 #include "api/route_params.h"
 
 namespace anchordb::api {
@@ -34,6 +35,17 @@ void RegisterJobRoutes(Router& router, JobService& j) {
       "Cancel a queued or running job (it fails with the error \"cancelled\"); {\"cancelled\": false} when it had finished",
       [&j](const httplib::Request&, const PathParams& p) {
         return JsonResponse(Json{{"cancelled", j.Cancel(PathId(p, "job", "job"))}});
+      });
+  router.Add("GET", "/v1/jobs", Role::kReader,
+      "Jobs, newest first (map=, before=, limit=): status, stage, progress, request, result, error",
+      [&j](const httplib::Request& req, const PathParams&) {
+        const auto map = QueryString(req, "map", limits::kIdLength);
+        const int limit = QueryWholeNumber(req, "limit", 50, 1, 1000);
+        Json out = Json::array();
+        for (const JobView& v : j.List(map, QueryInteger(req, "before", 0, 0, INT64_MAX), limit)) {
+          out.push_back(ToJson(v));
+        }
+        return JsonResponse(Json{{"jobs", out}});
       });
   router.Add("GET", "/v1/jobs/{job}", Role::kReader, "A job: status, stage, progress, request, result, error",
       [&j](const httplib::Request&, const PathParams& p) { return JsonResponse(ToJson(j.Get(PathId(p, "job", "job")))); });

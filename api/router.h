@@ -25,6 +25,11 @@ struct Response {
   std::string content_type = "application/json";
   std::string body;
   std::map<std::string, std::string> headers;
+  // A streamed body instead of `body` (Server-Sent Events): called again and again, chunked, until it calls
+  // sink.done() or returns false (peer gone, error); the server's stop ends it between calls. It writes with
+  // sink.write and sends what it wrote with sink.is_writable() (the server flushes there). Whatever it captures lives
+  // until the response is finished.
+  std::function<bool(httplib::DataSink& sink)> stream;
 };
 
 // Values of the {name} segments of a route pattern.

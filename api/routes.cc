@@ -3,6 +3,7 @@
 
 #include "api/audit_routes.h"
 #include "api/classifier_routes.h"
+#include "api/console_routes.h"
 #include "api/event_routes.h"
 #include "api/feature_routes.h"
 #include "api/furniture_routes.h"
@@ -11,6 +12,7 @@
 #include "api/octomap_routes.h"
 #include "api/scene_routes.h"
 #include "api/shape_routes.h"
+#include "api/stream_routes.h"
 
 namespace anchordb::api {
 
@@ -26,6 +28,8 @@ void RegisterAllRoutes(Router& router, services::Capabilities& c) {
   RegisterClassifierRoutes(router, c.classifiers);
   RegisterShapeRoutes(router, c.shapes);
   RegisterSegmentationRoutes(router, c.segmentation);
+  RegisterStreamRoutes(router, c.events, c.jobs);
+  RegisterConsoleRoutes(router);
   RegisterAuditRoutes(router, c.audit);  // last: it observes the routes above
 }
 

@@ -80,7 +80,14 @@ bool ConnectionStream::WaitFor(short events, std::chrono::milliseconds timeout) 
 
 bool ConnectionStream::is_readable() const { return c_.buffered() > 0 || WaitFor(POLLIN, read_timeout_); }
 
-bool ConnectionStream::is_writable() const { return !c_.failed; }
+// Also sends what is gathered, and says false once the peer hung up: a streamed response (api::Response::stream) asks
+// after each piece and between pieces, so a Server-Sent Event leaves at once instead of waiting for the gather buffer
+// to fill, and a stream whose client went away frees its worker at its next poll instead of at its next write.
+bool ConnectionStream::is_writable() const {
+  if (!const_cast<ConnectionStream*>(this)->Flush()) return false;
+  pollfd p{c_.fd, POLLRDHUP, 0};
+  return !(::poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR)));
+}
 
 ssize_t ConnectionStream::read(char* ptr, std::size_t size) {
   if (c_.buffered() == 0) {

@@ -55,7 +55,7 @@ class ConnectionStream final : public httplib::Stream {
       : c_(connection), read_timeout_(read_timeout), write_timeout_(write_timeout) {}
 
   bool is_readable() const override;
-  bool is_writable() const override;
+  bool is_writable() const override;  // flushes (see the .cc)
   ssize_t read(char* ptr, std::size_t size) override;
   ssize_t write(const char* ptr, std::size_t size) override;
   void get_remote_ip_and_port(std::string& ip, int& port) const override;

@@ -43,6 +43,9 @@ class RequestServer : public httplib::Server {
   bool ServeOne(httplib::Stream& stream, bool close_connection, bool& connection_closed) {
     return process_request(stream, close_connection, connection_closed, nullptr);
   }
+  // cpp-httplib ends a streamed (chunked) response when its listening socket is invalid ("shutting down"). It never
+  // listens here: the reactor's socket stands in while serving, and Stop invalidates it, so streams end on a stop.
+  void SetServing(socket_t fd) { svr_sock_ = fd; }
 };
 
 struct Address {
@@ -471,6 +474,7 @@ void HttpServing::Run() {
   if (epoll_ctl(m.epoll_fd, EPOLL_CTL_ADD, m.listen_fd, &e) != 0) {
     throw std::runtime_error(std::string("epoll_ctl: ") + std::strerror(errno));
   }
+  if (!m.stopping) m.routes.SetServing(m.listen_fd);
   for (int i = 0; i < m.limits.worker_threads; ++i) m.workers.emplace_back([&m] { m.Work(); });
   std::exception_ptr failure;
   try {
@@ -480,6 +484,7 @@ void HttpServing::Run() {
     m.stopping = true;
   }
   // Stop: accept nothing more; the workers answer the complete requests already queued (Connection: close).
+  m.routes.SetServing(INVALID_SOCKET);
   ::close(m.listen_fd);
   m.listen_fd = -1;
   {
@@ -501,6 +506,7 @@ void HttpServing::Run() {
 
 void HttpServing::Stop() {
   impl_->stopping = true;
+  impl_->routes.SetServing(INVALID_SOCKET);
   impl_->Wake();
 }
 

@@ -231,6 +231,12 @@ std::vector<EventRecord> ListEvents(Connection& c, const std::string& map_id, co
   return out;
 }
 
+std::int64_t MaxEventId(Connection& c, const std::string& map_id) {
+  Statement s(c, "SELECT COALESCE(MAX(id), 0) FROM events WHERE map_id = ?");
+  s.Bind(1, map_id);
+  return s.Step() ? s.Int(0) : 0;
+}
+
 void SetEventInstance(Connection& c, std::int64_t event_id, std::int64_t instance_id) {
   Statement(c, "UPDATE events SET instance_id = ? WHERE id = ?").Bind(1, instance_id).Bind(2, event_id).Run();
 }

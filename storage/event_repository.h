@@ -102,6 +102,8 @@ struct EventFilter {
 };
 // Events in (stamp_ns, id) order.
 std::vector<EventRecord> ListEvents(Connection& c, const std::string& map_id, const EventFilter& f);
+// The newest event id of the map (0 when it has none): where a live stream without Last-Event-ID starts.
+std::int64_t MaxEventId(Connection& c, const std::string& map_id);
 void SetEventInstance(Connection& c, std::int64_t event_id, std::int64_t instance_id);
 void UpdateEventExplanation(Connection& c, std::int64_t event_id, const std::string& type, const std::string& detection,
                             const std::string& explanation, const std::string& details_json);

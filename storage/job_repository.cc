@@ -13,11 +13,12 @@ std::int64_t InsertJob(Connection& c, const std::string& kind, const std::option
   return sqlite3_last_insert_rowid(c.handle());
 }
 
-std::optional<JobRecord> FindJob(Connection& c, std::int64_t id) {
-  Statement s(c, "SELECT id, kind, map_id, status, stage, progress, request, result, error, created_ns, updated_ns "
-                 "FROM jobs WHERE id = ?");
-  s.Bind(1, id);
-  if (!s.Step()) return std::nullopt;
+namespace {
+
+constexpr const char* kJobColumns =
+    "SELECT id, kind, map_id, status, stage, progress, request, result, error, created_ns, updated_ns FROM jobs";
+
+JobRecord ReadJob(Statement& s) {
   JobRecord r;
   r.id = s.Int(0);
   r.kind = s.Text(1);
@@ -31,6 +32,27 @@ std::optional<JobRecord> FindJob(Connection& c, std::int64_t id) {
   r.created_ns = s.Int(9);
   r.updated_ns = s.Int(10);
   return r;
+}
+
+}  // namespace
+
+std::optional<JobRecord> FindJob(Connection& c, std::int64_t id) {
+  Statement s(c, std::string(kJobColumns) + " WHERE id = ?");
+  s.Bind(1, id);
+  if (!s.Step()) return std::nullopt;
+  return ReadJob(s);
+}
+
+std::vector<JobRecord> ListJobs(Connection& c, const std::optional<std::string>& map_id, std::int64_t before_id, int limit) {
+  std::string sql = std::string(kJobColumns) + " WHERE (?1 = 0 OR id < ?1)";
+  if (map_id) sql += " AND map_id = ?2";
+  sql += " ORDER BY id DESC LIMIT ?3";
+  Statement s(c, sql);
+  s.Bind(1, before_id).Bind(3, static_cast<std::int64_t>(limit));
+  if (map_id) s.Bind(2, *map_id);
+  std::vector<JobRecord> out;
+  while (s.Step()) out.push_back(ReadJob(s));
+  return out;
 }
 
 std::optional<std::int64_t> NextQueuedJob(Connection& c, std::int64_t after_id) {

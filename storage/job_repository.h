@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "storage/sqlite.h"
 
@@ -26,6 +27,8 @@ struct JobRecord {
 std::int64_t InsertJob(Connection& c, const std::string& kind, const std::optional<std::string>& map_id,
                        const std::string& request_json, std::int64_t now_ns);
 std::optional<JobRecord> FindJob(Connection& c, std::int64_t id);
+// Newest first: jobs of `map_id` (every job when none) with id < before_id (no bound when 0), at most `limit`.
+std::vector<JobRecord> ListJobs(Connection& c, const std::optional<std::string>& map_id, std::int64_t before_id, int limit);
 // The oldest queued job.
 std::optional<std::int64_t> NextQueuedJob(Connection& c, std::int64_t after_id = 0);
 // result: kept as stored when null; error: replaced (null clears it).

@@ -45,6 +45,13 @@ EventPage EventService::ListEvents(const std::string& map, const EventQuery& que
   });
 }
 
+std::int64_t EventService::LatestEventId(const std::string& map) {
+  return store_.Read([&](storage::Connection& c) {
+    RequireMap(c, map);
+    return storage::MaxEventId(c, map);
+  });
+}
+
 EventView EventService::GetEvent(const std::string& map, std::int64_t id) {
   return store_.Read([&](storage::Connection& c) { return RequireEvent(c, map, id); });
 }

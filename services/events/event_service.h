@@ -38,6 +38,16 @@ struct EventSettings {
   double removed_min_seen_through = engine::kRemovedMinSeenThrough;  // fraction of an instance's visible points seen through -> removed
   int removed_min_visible_points = engine::kRemovedMinVisiblePoints;  // fewer visible points prove nothing
   std::size_t max_label_length = 64;
+  // The live stream GET /v1/maps/{map}/events:stream (api/stream_routes.h). Each open stream holds one HTTP worker,
+  // so at most max_streams are open at once (one more: 503 + Retry-After) and each ends after max_duration_s (the
+  // client reconnects with Last-Event-ID and misses nothing): streams never take the workers other clients need.
+  struct Stream {
+    int max_streams = 4;           // below the server's worker_threads
+    double max_duration_s = 30.0;  // [s] one response; then the client reconnects
+    double poll_s = 0.2;           // [s] how often an open stream looks for new events and job progress
+    double heartbeat_s = 10.0;     // [s] a comment line when nothing happened (finds dead clients)
+    int retry_ms = 500;            // [ms] the reconnection delay the stream tells EventSource clients
+  } stream;
 };
 
 class EventService {
@@ -53,6 +63,9 @@ class EventService {
   std::optional<KeyframeAnalysis> AnalyseKeyframe(const KeyframeNotice& notice, const Claim& claim = {});
 
   EventPage ListEvents(const std::string& map, const EventQuery& query);
+  // The map's newest event id (0 when it has none); unknown map: kNotFound.
+  std::int64_t LatestEventId(const std::string& map);
+  const EventSettings& settings() const { return settings_; }
   EventView GetEvent(const std::string& map, std::int64_t id);
   // Labels the instance the event concerns (kUnprocessable when it concerns none).
   LabelResult LabelEvent(const std::string& map, std::int64_t event_id, const LabelRequest& request);

@@ -20,6 +20,12 @@ void BindEventSettings(SettingsBinder& b, EventSettings& e) {
          "makes it removed", &e.removed_min_seen_through, 0.0, 1.0);
   b.Bind("event_removed_min_visible_points", "fewer visible points of an instance prove nothing about its removal",
          &e.removed_min_visible_points, 1, 1e6);
+  b.Bind("stream_max_streams", "live event streams (events:stream) open at once; each holds an HTTP worker",
+         &e.stream.max_streams, 1, 1000);
+  b.Bind("stream_max_duration_s", "one events:stream response ends after this; the client resumes with Last-Event-ID [s]",
+         &e.stream.max_duration_s, 1.0, 3600.0);
+  b.Bind("stream_poll_s", "how often an open events:stream looks for new events and job progress [s]", &e.stream.poll_s,
+         0.01, 10.0);
 }
 
 void BindAnalysisQueueSettings(SettingsBinder& b, AnalysisQueueSettings& a) {

@@ -5,6 +5,7 @@
 #include "schema/error.h"
 #include "services/jobs/backup_job.h"
 #include "services/jobs/forget_job.h"
+#include "services/common/require.h"
 #include "storage/job_repository.h"
 #include "storage/repositories.h"
 
@@ -145,15 +146,31 @@ std::int64_t JobService::Enqueue(const std::string& kind, const std::optional<st
 JobView JobService::Get(std::int64_t id) {
   const auto r = store_.Read([&](storage::Connection& c) { return storage::FindJob(c, id); });
   if (!r) throw NoJob(id);
-  JobView v{r->id, r->kind, r->map_id, StatusOf(r->status), r->stage, r->progress, r->request_json, r->result_json,
-            r->error, r->created_ns, r->updated_ns};
   std::lock_guard<std::mutex> lock(mutex_);
-  if (const auto f = unrecorded_failures_.find(id); f != unrecorded_failures_.end() && v.status != JobStatus::kSucceeded) {
+  return ViewOf(*r);
+}
+
+std::vector<JobView> JobService::List(const std::optional<std::string>& map, std::int64_t before_id, int limit) {
+  if (limit < 1 || limit > 1000) throw Error(ErrorCode::kInvalidArgument, "limit must be in [1, 1000]", "limit");
+  const auto records = store_.Read([&](storage::Connection& c) {
+    if (map) RequireMap(c, *map);
+    return storage::ListJobs(c, map, before_id, limit);
+  });
+  std::vector<JobView> out;
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (const auto& r : records) out.push_back(ViewOf(r));
+  return out;
+}
+
+JobView JobService::ViewOf(const storage::JobRecord& r) const {
+  JobView v{r.id, r.kind, r.map_id, StatusOf(r.status), r.stage, r.progress, r.request_json, r.result_json,
+            r.error, r.created_ns, r.updated_ns};
+  if (const auto f = unrecorded_failures_.find(r.id); f != unrecorded_failures_.end() && v.status != JobStatus::kSucceeded) {
     v.status = JobStatus::kFailed;
     v.error = f->second;
     return v;
   }
-  if (live_id_ == id && v.status == JobStatus::kRunning) {
+  if (live_id_ == r.id && v.status == JobStatus::kRunning) {
     v.stage = live_stage_;
     v.progress = live_progress_;
   }

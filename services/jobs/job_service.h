@@ -21,11 +21,13 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "schema/clock.h"
 #include "services/jobs/job_registry.h"
 #include "services/jobs/job_types.h"
 #include "storage/forget_policy.h"
+#include "storage/job_repository.h"
 #include "storage/sqlite.h"
 #include "storage/store.h"
 
@@ -59,6 +61,9 @@ class JobService {
   JobTicket SubmitBackup(const BackupRequest& request);
   // Unknown id: kNotFound.
   JobView Get(std::int64_t id);
+  // Newest first: the jobs of `map` (every job when none; unknown map: kNotFound) with id < before_id (0: no bound),
+  // limit in [1, 1000] (kInvalidArgument "limit"), the running one with its live stage and progress.
+  std::vector<JobView> List(const std::optional<std::string>& map, std::int64_t before_id, int limit);
   // Stops a queued or running job: it fails with the error "cancelled" (a running one at its next progress report or
   // interrupted statement). False when the job had finished already; unknown id: kNotFound.
   bool Cancel(std::int64_t id);
@@ -71,6 +76,8 @@ class JobService {
   class Context;
   // Reserves a queue slot, writes the queued row (map checked when given) and wakes the worker; returns its id.
   std::int64_t Enqueue(const std::string& kind, const std::optional<std::string>& map, const std::string& request_json);
+  // A stored job as served (an unrecorded failure or the live progress applied). Needs mutex_.
+  JobView ViewOf(const storage::JobRecord& r) const;
   void Worker();
   void RunJob(std::int64_t id);
   void Fail(std::int64_t id, const JobKind* kind, const std::string& what);

@@ -1,0 +1,17 @@
+# Writes a C++ source holding the operator console's files (clients/web) as byte arrays. Inputs: DIR, OUT, FILES
+# (names relative to DIR, separated by commas).
+string(REPLACE "," ";" files "${FILES}")
+set(arrays "")
+set(entries "")
+set(i 0)
+foreach(name IN LISTS files)
+  file(READ "${DIR}/${name}" hex HEX)
+  string(REGEX REPLACE "([0-9a-f][0-9a-f])" "0x\\1," bytes "${hex}")
+  string(LENGTH "${hex}" hex_length)
+  math(EXPR size "${hex_length} / 2")
+  string(APPEND arrays "const unsigned char kFile${i}[] = {${bytes}0};\n")
+  string(APPEND entries "    {\"${name}\", std::string_view(reinterpret_cast<const char*>(kFile${i}), ${size})},\n")
+  math(EXPR i "${i} + 1")
+endforeach()
+file(WRITE "${OUT}.tmp" "#include \"api/console_routes.h\"\nnamespace anchordb::api {\nnamespace {\n${arrays}}  // namespace\nconst std::vector<ConsoleFile>& ConsoleFiles() {\n  static const std::vector<ConsoleFile> kFiles = {\n${entries}  };\n  return kFiles;\n}\n}  // namespace anchordb::api\n")
+execute_process(COMMAND ${CMAKE_COMMAND} -E copy_if_different "${OUT}.tmp" "${OUT}")
