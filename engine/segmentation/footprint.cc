@@ -109,9 +109,10 @@ std::vector<Eigen::Vector2d> FootprintCorners(const Footprint& f) {
   return {f.centre_m - hx - hy, f.centre_m + hx - hy, f.centre_m + hx + hy, f.centre_m - hx + hy};
 }
 
-double FootprintIoU(const Footprint& a, const Footprint& b) {
-  const double area_a = a.extent_m.prod(), area_b = b.extent_m.prod();
-  if (!(area_a > 0.0) || !(area_b > 0.0)) return 0.0;
+namespace {
+
+double IntersectionArea(const Footprint& a, const Footprint& b) {
+  if (!(a.extent_m.prod() > 0.0) || !(b.extent_m.prod() > 0.0)) return 0.0;
   const auto rect = [](const Footprint& f) {
     return cv::RotatedRect(cv::Point2f(static_cast<float>(f.centre_m.x()), static_cast<float>(f.centre_m.y())),
                            cv::Size2f(static_cast<float>(f.extent_m.x()), static_cast<float>(f.extent_m.y())),
@@ -121,8 +122,20 @@ double FootprintIoU(const Footprint& a, const Footprint& b) {
   if (cv::rotatedRectangleIntersection(rect(a), rect(b), region) == cv::INTERSECT_NONE || region.size() < 3) return 0.0;
   std::vector<cv::Point2f> hull;
   cv::convexHull(region, hull);
-  const double inter = cv::contourArea(hull);
-  return inter / (area_a + area_b - inter);
+  return cv::contourArea(hull);
+}
+
+}  // namespace
+
+double FootprintIoU(const Footprint& a, const Footprint& b) {
+  const double inter = IntersectionArea(a, b);
+  if (!(inter > 0.0)) return 0.0;
+  return inter / (a.extent_m.prod() + b.extent_m.prod() - inter);
+}
+
+double FootprintOverlap(const Footprint& a, const Footprint& b) {
+  const double inter = IntersectionArea(a, b);
+  return inter > 0.0 ? inter / a.extent_m.prod() : 0.0;
 }
 
 }  // namespace anchordb::engine::segmentation

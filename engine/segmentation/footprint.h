@@ -33,6 +33,9 @@ Footprint ExtendToWall(const Footprint& f, const Eigen::Vector2d& normal, double
 // rotatedRectangleIntersection). 0 when either is degenerate (zero area).
 double FootprintIoU(const Footprint& a, const Footprint& b);
 
+// The share of a's area that lies inside b (0 when a is degenerate).
+double FootprintOverlap(const Footprint& a, const Footprint& b);
+
 // The four corners of the rectangle, counter-clockwise.
 std::vector<Eigen::Vector2d> FootprintCorners(const Footprint& f);
 

@@ -312,6 +312,38 @@ SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m,
     Bounds(*remaining, into);
   }
 
+  // 5. Parts of one piece that occlusion split apart side by side (a table's far leg, a corner sofa's arm): a
+  // cluster whose footprint lies for the most part (part_overlap) inside a larger cluster's joins it.
+  if (p.part_overlap > 0.0) {
+    std::vector<std::size_t> order;
+    for (std::size_t i = 0; i < clusters.size(); ++i) {
+      if (clusters[i].alive) order.push_back(i);
+    }
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return clusters[a].indices.size() < clusters[b].indices.size(); });
+    const auto footprint = [&](const Cluster& c) {
+      std::vector<Eigen::Vector3f> pts;
+      pts.reserve(c.indices.size());
+      for (int i : c.indices) pts.push_back((*remaining)[static_cast<std::size_t>(i)].getVector3fMap());
+      return FootprintOf(pts);
+    };
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      Cluster& part = clusters[order[k]];
+      const Footprint fp = footprint(part);
+      for (std::size_t m = order.size(); m-- > k + 1;) {
+        Cluster& whole = clusters[order[m]];
+        if (!whole.alive || whole.indices.size() <= part.indices.size()) continue;
+        if (FootprintOverlap(fp, footprint(whole)) < p.part_overlap) continue;
+        whole.indices.insert(whole.indices.end(), part.indices.begin(), part.indices.end());
+        whole.merged += 1 + part.merged;
+        whole.floor |= part.floor;
+        whole.wall |= part.wall;
+        Bounds(*remaining, whole);
+        part.alive = false;
+        break;
+      }
+    }
+  }
+
   for (const Cluster& c : clusters) {
     if (!c.alive) continue;
     FurnitureSegment s;

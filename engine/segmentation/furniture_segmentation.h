@@ -41,6 +41,9 @@ struct SegmentationParams {
   // A piece whose footprint ends at most this far in front of a wall extends back to it when the floor between was
   // not seen (its back and top hidden from the camera; engine/segmentation/footprint.h ExtendToWall) [m]; 0 = never.
   double wall_reach_m = 0.8;
+  // A cluster whose footprint lies at least this much (share of its area) inside a larger cluster's is a part of
+  // that piece split off by occlusion and joins it; 0 = never.
+  double part_overlap = 0.5;
 };
 
 enum class PlaneRole { kFloor, kCeiling, kWall, kWallWithOpening, kSurface };
@@ -58,7 +61,7 @@ struct FurnitureSegment {
   Eigen::Vector3d centroid_m = Eigen::Vector3d::Zero();
   Footprint footprint;
   bool touches_floor = false, touches_wall = false;
-  int merged_flying = 0;  // flying clusters merged into it
+  int merged_flying = 0;  // flying clusters and parts merged into it
 };
 
 struct SegmentationResult {
