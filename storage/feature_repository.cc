@@ -5,6 +5,7 @@
 
 #include "schema/error.h"
 #include "storage/blob_codec.h"
+#include "storage/trained_model_rows.h"
 
 namespace anchordb::storage {
 namespace {
@@ -156,38 +157,14 @@ std::optional<CodebookRecord> GetCodebook(Connection& c, const std::string& map,
   return b;
 }
 
-void UpsertClassifier(Connection& c, const ClassifierRecord& r) {
-  Statement s(c, "INSERT OR REPLACE INTO classifiers (name, created_ns, model, request_json, report_json) VALUES (?, ?, ?, ?, ?)");
-  s.Bind(1, r.name).Bind(2, r.created_ns).BindBlob(3, EncodeBlob(BlobElement::kU8, {static_cast<std::uint32_t>(r.model.size())}, r.model));
-  s.Bind(4, r.request_json).Bind(5, r.report_json);
-  s.Run();
-}
+void UpsertClassifier(Connection& c, const ClassifierRecord& r) { trained_models::Upsert(c, "classifiers", r); }
 
 std::optional<ClassifierRecord> GetClassifier(Connection& c, const std::string& name, bool with_model) {
-  Statement s(c, "SELECT name, created_ns, model, request_json, report_json FROM classifiers WHERE name = ?");
-  s.Bind(1, name);
-  if (!s.Step()) return std::nullopt;
-  ClassifierRecord r;
-  r.name = s.Text(0);
-  r.created_ns = s.Int(1);
-  if (with_model) r.model = DecodeBlob(s.Blob(2)).bytes;
-  r.request_json = s.Text(3);
-  r.report_json = s.Text(4);
-  return r;
+  return trained_models::Get<ClassifierRecord>(c, "classifiers", name, with_model);
 }
 
 std::vector<ClassifierRecord> ListClassifiers(Connection& c) {
-  Statement s(c, "SELECT name, created_ns, request_json, report_json FROM classifiers ORDER BY name");
-  std::vector<ClassifierRecord> out;
-  while (s.Step()) {
-    ClassifierRecord r;
-    r.name = s.Text(0);
-    r.created_ns = s.Int(1);
-    r.request_json = s.Text(2);
-    r.report_json = s.Text(3);
-    out.push_back(std::move(r));
-  }
-  return out;
+  return trained_models::List<ClassifierRecord>(c, "classifiers");
 }
 
 }  // namespace anchordb::storage
