@@ -21,6 +21,7 @@ const std::vector<AuditedAction>& AuditedActions() {
       {"DELETE", "/v1/maps/{map}/instances/{instance}", "instance.delete", kInstance},
       {"POST", "/v1/maps/{map}/instances", "instance.create", nullptr, true},
       {"POST", "/v1/maps/{map}/events/{event}:label", "event.label", "/v1/maps/{map}/events/{event}"},
+      {"DELETE", "/v1/maps/{map}/events/{event}", "event.delete", "/v1/maps/{map}/events/{event}"},
       {"POST", "/v1/maps/{map}/keyframes/{keyframe}:pin", "keyframe.pin", kKeyframe},
       {"POST", "/v1/maps/{map}/keyframes/{keyframe}:unpin", "keyframe.unpin", kKeyframe},
       {"POST", "/v1/maps/{map}/keyframes/{keyframe}:score", "keyframe.score", kKeyframe},

@@ -33,6 +33,9 @@ void RegisterEventRoutes(Router& router, EventService& e) {
         const LabelRequest r = ParseLabelRequest(json::ParseObject(req.body));
         return JsonResponse(LabelResultJson(e.LabelEvent(p["map"], EventId(p), r)));
       });
+  router.Add("DELETE", "/v1/maps/{map}/events/{event}", Role::kAdmin,
+      "Operator deletes a wrong event with its evidence links (audited); answers the event as it was",
+      [&e](Req, const PathParams& p) { return JsonResponse(EventJson(e.DeleteEvent(p["map"], EventId(p)))); });
   router.Add("GET", "/v1/maps/{map}/instances", Role::kReader, "Instances (label=, kind=, status=, after=, limit=)",
       [&e](Req req, const PathParams& p) { return JsonResponse(InstancePageJson(e.ListInstances(p["map"], ParseInstanceQuery(req)))); });
   router.Add("POST", "/v1/maps/{map}/instances", Role::kWriter,

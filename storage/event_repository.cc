@@ -241,6 +241,11 @@ void SetEventInstance(Connection& c, std::int64_t event_id, std::int64_t instanc
   Statement(c, "UPDATE events SET instance_id = ? WHERE id = ?").Bind(1, instance_id).Bind(2, event_id).Run();
 }
 
+bool DeleteEvent(Connection& c, const std::string& map_id, std::int64_t event_id) {
+  Statement(c, "DELETE FROM events WHERE map_id = ? AND id = ?").Bind(1, map_id).Bind(2, event_id).Run();
+  return c.Changes() > 0;
+}
+
 void UpdateEventExplanation(Connection& c, std::int64_t event_id, const std::string& type, const std::string& detection,
                             const std::string& explanation, const std::string& details_json) {
   Statement(c, "UPDATE events SET type = ?, detection = ?, explanation = ?, details = ? WHERE id = ?")

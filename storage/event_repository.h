@@ -105,6 +105,9 @@ std::vector<EventRecord> ListEvents(Connection& c, const std::string& map_id, co
 // The newest event id of the map (0 when it has none): where a live stream without Last-Event-ID starts.
 std::int64_t MaxEventId(Connection& c, const std::string& map_id);
 void SetEventInstance(Connection& c, std::int64_t event_id, std::int64_t instance_id);
+// Deletes one event of the map with its evidence rows (instance_history.event_id of entries it caused becomes NULL);
+// false when the map has no such event.
+bool DeleteEvent(Connection& c, const std::string& map_id, std::int64_t event_id);
 void UpdateEventExplanation(Connection& c, std::int64_t event_id, const std::string& type, const std::string& detection,
                             const std::string& explanation, const std::string& details_json);
 

@@ -294,6 +294,10 @@ class Client:
         return self.request("POST", "/v1/maps/%s/events/%d:label" % (_quote(map_id), event_id),
                             {"label": label, "source": source})
 
+    def delete_event(self, map_id, event_id):
+        """An operator removes a wrong event (admin; audited); returns the event as it was."""
+        return self.request("DELETE", "/v1/maps/%s/events/%d" % (_quote(map_id), event_id))
+
     def instances(self, map_id, label=None, kind=None, status=None):
         return self.request("GET", "/v1/maps/%s/instances" % _quote(map_id) +
                             _query({"label": label, "kind": kind, "status": status}))

@@ -97,6 +97,14 @@ LabelResult EventService::LabelEvent(const std::string& map, std::int64_t event_
   return out;
 }
 
+EventView EventService::DeleteEvent(const std::string& map, std::int64_t event_id) {  // no analysis mutex (see above)
+  return store_.Write([&](storage::Connection& c) {
+    EventView before = RequireEvent(c, map, event_id);
+    storage::DeleteEvent(c, map, event_id);
+    return before;
+  });
+}
+
 InstanceView EventService::CreateInstance(const std::string& map, const CreateInstanceRequest& request) {
   const std::string label = engine::NormaliseLabel(request.label, settings_.max_label_length, "label");
   if ((request.extent_m.array() < 0).any()) throw Error(ErrorCode::kUnprocessable, "extent must not be negative", "extent");

@@ -69,6 +69,10 @@ class EventService {
   EventView GetEvent(const std::string& map, std::int64_t id);
   // Labels the instance the event concerns (kUnprocessable when it concerns none).
   LabelResult LabelEvent(const std::string& map, std::int64_t event_id, const LabelRequest& request);
+  // An operator removes a wrong event: its row and evidence links go (the keyframes stay, unpinned references gone,
+  // so forgetting may later collect them); what it did to its instance (position history, labels) stays, with the
+  // history entry no longer pointing at it. Returns the event as it was. kNotFound for an unknown map or event.
+  EventView DeleteEvent(const std::string& map, std::int64_t event_id);
 
   InstanceView CreateInstance(const std::string& map, const CreateInstanceRequest& request);
   InstancePage ListInstances(const std::string& map, const InstanceQuery& query);

@@ -12,10 +12,30 @@
 
 #include <nlohmann/json.hpp>
 
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <regex>
+
 namespace anchordb {
 namespace {
 
 using nlohmann::json;
+
+// `anchordb token create --role <role> --db <db>`; returns the printed secret ("" when it failed).
+std::string CreateToken(const std::string& db, const std::string& role) {
+  const char* bin = std::getenv("ANCHORDB_BIN");
+  if (!bin) return "";
+  FILE* pipe = popen((std::string(bin) + " token create --role " + role + " --db " + db + " 2>&1").c_str(), "r");
+  if (!pipe) return "";
+  std::string out;
+  char buffer[1024];
+  for (std::size_t n; (n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0;) out.append(buffer, n);
+  pclose(pipe);
+  std::smatch m;
+  return std::regex_search(out, m, std::regex(R"(\): (\S+))")) ? m[1].str() : "";
+}
 
 class EventsHttpTest : public ::testing::Test {
  protected:
@@ -185,6 +205,127 @@ TEST_F(EventsHttpTest, ReanalysisOfAnOldKeyframeFindsAnObjectThatWasBackgroundTh
   }
   EXPECT_TRUE(found) << re.dump(1);
   EXPECT_FALSE(Ok("GET", "/v1/maps/home/events?type=removed")["events"].empty());
+}
+
+// Two visits of one place; the box went between them unseen, and re-analysing the first visit's begin keyframe against
+// the second visit's background finds it removed (as in the test above). Returns that keyframe's id.
+std::int64_t TwoVisitsWithAnUnseenRemoval(httplib::Client& client) {
+  sim::SettingScene s = sim::MakeSetting(sim::Setting::kTA, 4);
+  const PinholeIntrinsics K = sim::KinectIntrinsics();
+  const Eigen::Quaterniond q(s.X_WorldCameraA.linear());
+  const json pose = {{"position", {s.X_WorldCameraA.translation().x(), s.X_WorldCameraA.translation().y(), s.X_WorldCameraA.translation().z()}},
+                     {"orientation", {q.x(), q.y(), q.z(), q.w()}}};
+  const json camera = {{"width", K.width}, {"height", K.height}, {"fx", K.fx}, {"fy", K.fy}, {"cx", K.cx}, {"cy", K.cy}};
+  std::int64_t first_begin = 0;
+  for (int visit = 0; visit < 2; ++visit) {
+    sim::Scene scene = s.scene;
+    if (visit == 1) sim::RemoveObject(scene, s.movable_ids.at(1));
+    auto opened = client.Post("/v1/maps/home/scenes",
+                              json({{"camera", camera}, {"pose", pose}, {"stamp", 1'000'000'000'000LL * (visit + 1)}}).dump(), "application/json");
+    EXPECT_TRUE(opened && opened->status == 201) << (opened ? opened->body : "");
+    if (!opened || opened->status != 201) return 0;
+    const std::string base = "/v1/maps/home/scenes/" + std::to_string(json::parse(opened->body)["id"].get<std::int64_t>());
+    for (int i = 0; i < 6; ++i) {
+      const sim::Frame f = sim::Render(scene, K, s.X_WorldCameraA, sim::SensorModel{}, 77 + visit * 10 + i);
+      auto r = client.Post(base + "/frames?stamp=" + std::to_string(1'000'000'000'000LL * (visit + 1) + i * 33'000'000LL),
+                           std::string(reinterpret_cast<const char*>(f.depth_mm.data()), f.depth_mm.size() * 2), "application/octet-stream");
+      EXPECT_TRUE(r && r->status == 200) << (r ? r->body : "");
+      if (r && visit == 0 && i == 0) first_begin = json::parse(r->body)["keyframe"].get<std::int64_t>();
+    }
+    auto closed = client.Post(base + ":close?wait_for_analysis=true", "{}", "application/json");
+    EXPECT_TRUE(closed && closed->status == 200);
+  }
+  return first_begin;
+}
+
+TEST_F(EventsHttpTest, OperatorDeletesAWrongEventAuditedReadersRefusedBadInputChangesNothing) {
+  const std::string db = dir_.File("events.sqlite");
+  server_->Stop();
+  const std::string admin = CreateToken(db, "admin"), reader = CreateToken(db, "reader");
+  ASSERT_FALSE(admin.empty());
+  ASSERT_FALSE(reader.empty());
+  server_ = std::make_unique<testing::ServerProcess>(db, std::vector<std::string>{"--auth=required"});
+  client_ = std::make_unique<httplib::Client>("127.0.0.1", server_->port());
+  client_->set_read_timeout(60, 0);
+  client_->set_bearer_token_auth(admin);
+  Ok("POST", "/v1/maps", R"({"id":"home","name":"flat"})", 201);
+  const std::int64_t keyframe = TwoVisitsWithAnUnseenRemoval(*client_);
+  ASSERT_GT(keyframe, 0);
+  const json re = Ok("POST", "/v1/maps/home/keyframes/" + std::to_string(keyframe) + ":reanalyse");
+  ASSERT_FALSE(re["events"].empty()) << re.dump(1);
+  const json wrong = re["events"][0];
+  const std::int64_t id = wrong["id"].get<std::int64_t>();
+  const std::string path = "/v1/maps/home/events/" + std::to_string(id);
+  ASSERT_FALSE(wrong["evidence"].empty());
+  const auto state = [&] {
+    json s = {{"events", Ok("GET", "/v1/maps/home/events?limit=1000")["events"]}, {"instances", json::array()}};
+    for (const json& i : Ok("GET", "/v1/maps/home/instances?limit=1000")["instances"]) {
+      s["instances"].push_back(Ok("GET", "/v1/maps/home/instances/" + std::to_string(i["id"].get<std::int64_t>()) + "/history"));
+    }
+    return s;
+  };
+  const json before = state();
+
+  // Refused without changing anything: a reader's forged delete (403), unknown events and maps (404).
+  httplib::Client as_reader("127.0.0.1", server_->port());
+  as_reader.set_bearer_token_auth(reader);
+  auto forged = as_reader.Delete(path);
+  ASSERT_TRUE(forged);
+  EXPECT_EQ(forged->status, 403) << forged->body;
+  EXPECT_EQ(json::parse(forged->body)["error"]["code"], "forbidden") << forged->body;
+  EXPECT_EQ(as_reader.Get(path)->status, 200);  // a reader still reads it
+  const struct {
+    std::string path;
+    int status;
+    std::string field;
+  } bad[] = {{"/v1/maps/home/events/999999", 404, "event"}, {"/v1/maps/home/events/abc", 404, "event"},
+             {"/v1/maps/home/events/-1", 404, "event"}, {"/v1/maps/nowhere/events/" + std::to_string(id), 404, "map"}};
+  for (const auto& b : bad) {
+    auto [status, body] = Call("DELETE", b.path);
+    EXPECT_EQ(status, b.status) << b.path << " " << body.dump();
+    EXPECT_EQ(body["error"].value("field", ""), b.field) << b.path << " " << body.dump();
+  }
+  EXPECT_EQ(state(), before);
+
+  // The admin deletes it: the answer is the event as it was; it is gone from the listing, its evidence keyframes
+  // stay, and no instance history names it any more.
+  const json deleted = Ok("DELETE", path);
+  EXPECT_EQ(deleted, wrong);
+  EXPECT_EQ(Call("GET", path).first, 404);
+  EXPECT_EQ(Call("DELETE", path).first, 404);  // twice: unknown now, nothing else goes
+  const json after = state();
+  EXPECT_EQ(after["events"].size() + 1, before["events"].size());
+  for (const json& e : after["events"]) EXPECT_NE(e["id"], id);
+  for (const json& k : wrong["evidence"]) Ok("GET", "/v1/maps/home/keyframes/" + std::to_string(k["keyframe"].get<std::int64_t>()));
+  bool kept_position = false;
+  for (std::size_t i = 0; i < after["instances"].size(); ++i) {
+    const json& h = after["instances"][i]["history"];
+    ASSERT_EQ(h.size(), before["instances"][i]["history"].size());
+    for (std::size_t k = 0; k < h.size(); ++k) {
+      EXPECT_NE(h[k]["event"], id);
+      if (before["instances"][i]["history"][k]["event"] == id) kept_position = h[k]["event"].is_null();
+    }
+  }
+  if (wrong["instance"].is_number()) EXPECT_TRUE(kept_position) << before.dump();
+  // Later automatic processing: the same keyframe re-analysed again does not bring the deleted event back.
+  const json again = Ok("POST", "/v1/maps/home/keyframes/" + std::to_string(keyframe) + ":reanalyse");
+  for (const json& e : again["events"]) EXPECT_FALSE(e["type"] == wrong["type"] && e["instance"] == wrong["instance"]) << e.dump();
+
+  // The audit trail: the deletion with the event before and nothing after, by the admin; the attempts on unknown
+  // events with their 404 (the reader's was refused before any handler ran: no entry).
+  const json entries = Ok("GET", "/v1/audit?map=home&action=event.delete&limit=100")["entries"];
+  int deletions = 0, unknown = 0;
+  for (const json& e : entries) {
+    EXPECT_EQ(e["actor"]["role"], "admin") << e.dump();
+    if (e["resource"] == "event=" + std::to_string(id) && e["status"] == 200) {
+      ++deletions;
+      EXPECT_EQ(e["before"], wrong);
+      EXPECT_TRUE(e["after"].is_null()) << e.dump();
+    }
+    if (e["resource"] == "event=999999") unknown += e["status"] == 404 && e["before"].is_null();
+  }
+  EXPECT_EQ(deletions, 1) << entries.dump(1);
+  EXPECT_EQ(unknown, 1) << entries.dump(1);
 }
 
 TEST_F(EventsHttpTest, BadInputIsRefusedWithClearErrorsAndChangesNothing) {
