@@ -55,6 +55,26 @@ async function keyframeFigure(id, role, outline) {
   return box;
 }
 
+// A label layer's categories: each with its colour (the server's PNG palette, engine/grid/render.cc), its id and name,
+// the cells the API counts and the cells of that colour in the image (canvas.dataset.pixelsPerLabel).
+const labelColour = id => [60 + (id * 151) % 180, 60 + (id * 57) % 180, 60 + (id * 97) % 180];
+function labelLegend(canvas, meta) {
+  const cells = (meta.statistics && meta.statistics.cells_per_label) || {};
+  const d = Images.pixels(canvas).data, seen = {};
+  const entries = Object.entries(meta.labels || {}).map(([id, name]) => [Number(id), name]);
+  for (let i = 0; i < d.length; i += 4) {
+    for (const [id] of entries) {
+      const [r, g, b] = labelColour(id);
+      if (d[i] === r && d[i + 1] === g && d[i + 2] === b) { seen[id] = (seen[id] || 0) + 1; break; }
+    }
+  }
+  canvas.dataset.pixelsPerLabel = JSON.stringify(Object.fromEntries(entries.map(([id]) => [id, seen[id] || 0])));
+  const swatch = id => { const s = el('span', { class: 'swatch' }); s.style.background = 'rgb(' + labelColour(id).join(',') + ')'; return s; };
+  return el('table', { class: 'kv categories' }, el('tr', {}, el('th', {}, ''), el('th', {}, 'category'), el('th', {}, 'cells')),
+    ...entries.map(([id, name]) => el('tr', { 'data-label': String(id) }, el('td', {}, swatch(id)), el('td', {}, id + ' ' + name),
+      el('td', {}, String(cells[id] ?? 0)))));
+}
+
 // ---- Map: layers as images -------------------------------------------------------------------------------------
 Console.views.layers = {
   async show() {
@@ -101,11 +121,7 @@ Console.views.layers = {
           } catch (e) { /* no attention for this layer */ }
         }
       }
-      if (l.kind === 'label') {
-        const cells = (meta.statistics && meta.statistics.cells_per_label) || {};
-        caption.append(el('div', { class: 'categories' }, 'categories: ' + Object.entries(meta.labels || {}).map(([id, name]) =>
-          id + ' ' + name + (cells[name] !== undefined ? ' (' + cells[name] + ' cells)' : '')).join(', ')));
-      }
+      if (l.kind === 'label') caption.append(labelLegend(canvas, meta));
       if (l.kind === 'occupancy' && meta.statistics) caption.append(kv(meta.statistics));
       box.append(Images.figure(canvas, caption));
     }
@@ -149,60 +165,6 @@ $('#viewpoint-form').addEventListener('submit', async ev => {
     }
   } catch (e) { Console.fail(e); }
 });
-
-// The merge report: per earlier model used, its ICP correction and how many pixels each rule took or rejected.
-function mergeReport(m) {
-  const used = m.models_used || [];
-  const rest = Object.fromEntries(Object.entries(m).filter(([k]) => k !== 'models_used'));
-  const rows = used.map(u => {
-    const icp = u.icp || {}, c = icp.correction || {};
-    return el('tr', {}, el('td', {}, String(u.scene)),
-      el('td', {}, icp.applied ? fmtVec(c.translation_m || []) + ' m, ' + ((c.rotation_rad || 0) * 180 / Math.PI).toFixed(2) + ' deg' : 'not applied'),
-      el('td', {}, Object.entries(u.rasterise || {}).map(([k, v]) => k + ' ' + v).join(', ')));
-  });
-  return el('div', {}, el('table', { class: 'table', id: 'merge-models' }, el('tr', {}, el('th', {}, 'model'),
-    el('th', {}, 'ICP correction'), el('th', {}, 'pixels per rule')), ...rows), kv(rest));
-}
-
-// ---- Scene models ------------------------------------------------------------------------------------------------
-Console.views.scenes = {
-  async show() {
-    const scenes = (await Api.get(M() + '/scenes?limit=100')).scenes;
-    const list = $('#scene-list');
-    list.replaceChildren(...scenes.map(s => el('li', { 'data-scene': s.id, onclick: () => this.open(s.id) },
-      'scene ' + s.id + ' ' + s.status + ' (' + s.persisted_frames + ' frames)')));
-    if (scenes.length) await this.open(this.selected && scenes.some(s => s.id === this.selected) ? this.selected : scenes[0].id);
-  },
-  async open(id) {
-    this.selected = id;
-    for (const li of document.querySelectorAll('#scene-list li')) li.classList.toggle('selected', Number(li.dataset.scene) === id);
-    const s = await Api.get(M() + '/scenes/' + id);
-    const detail = $('#scene-detail');
-    const row = el('div', { class: 'grid' });
-    for (const layer of ['static', 'movable', 'dynamic', 'reliability']) {
-      const bitmap = await Api.bitmap(M() + '/scenes/' + id + '/layers/' + layer + '?format=png');
-      const canvas = layer === 'static' ? Images.depthCanvas(bitmap) : Images.canvasOf(bitmap);
-      if (layer !== 'static') {
-        const raw = Images.canvasOf(bitmap);
-        canvas.dataset.setPixels = Images.countSet(raw);
-      }
-      canvas.dataset.layer = layer;
-      canvas.style.width = '240px';
-      row.append(Images.figure(canvas, layer + (canvas.dataset.setPixels !== undefined ? ' (' + canvas.dataset.setPixels + ' pixels set)' : '')));
-    }
-    const strip = el('div', { class: 'strip', id: 'keyframe-strip' });
-    for (const k of s.keyframes || []) {
-      const b = await Api.bitmap(M() + '/keyframes/' + k.id + '/depth');
-      const c = Images.depthCanvas(b);
-      strip.append(Images.figure(c, k.kind + ' ' + k.id + ' ' + fmtTime(k.stamp_ns)));
-    }
-    detail.replaceChildren(el('h3', {}, 'scene ' + id + ' (' + s.status + ')'),
-      kv({ frames: s.frames, movable_pixels: s.statistics.movable_pixels, dynamic_pixels: s.statistics.dynamic_pixels,
-           known_background_pixels: s.statistics.known_background_pixels, started: fmtTime(s.started_ns), superseded_by: s.superseded_by }),
-      row, el('h4', {}, 'merge report'), s.merge ? mergeReport(s.merge) : 'no merge', el('h4', {}, 'keyframes'), strip);
-    detail.dataset.movablePixels = s.statistics.movable_pixels;
-  },
-};
 
 // ---- Events ------------------------------------------------------------------------------------------------------
 Console.views.events = {
@@ -254,8 +216,18 @@ Console.views.events = {
         await this.open(id);
       } catch (x) { Console.fail(x); }
     });
+    // An operator removes a wrong event (admin; audited as event.delete): gone from the list, its keyframes stay.
+    const del = el('button', { id: 'delete-event', class: 'edit admin-only', onclick: async () => {
+      if (!confirm('Delete event ' + id + '?')) return;
+      try {
+        await Api.del(M() + '/events/' + id);
+        Console.status('event ' + id + ' deleted');
+        box.replaceChildren();
+        await this.show(this.cursors[this.cursors.length - 1]);
+      } catch (x) { Console.fail(x); }
+    } }, 'delete event');
     box.replaceChildren(el('h3', {}, e.type + ' event ' + id), el('p', {}, e.explanation), kv({ time: fmtTime(e.stamp_ns),
-      detection: e.detection, instance: e.instance, label: e.label, scene: e.scene }), edit);
+      detection: e.detection, instance: e.instance, label: e.label, scene: e.scene }), edit, del);
     if (e.details && e.details.segment) box.append(el('p', {}, 'segment: centroid ' + fmtVec(e.details.segment.centroid_m) +
       ' m, extent ' + fmtVec(e.details.segment.extent_m) + ' m, ' + e.details.segment.points + ' points'));
     let outline = null;

@@ -59,7 +59,7 @@ class ConsoleBrowserTest(unittest.TestCase):
         cls.server = server
         try:
             cls.tokens = {role: harness.create_token(server.db_path, role) for role in ("reader", "writer", "admin")}
-            server.extra_args = ["--auth=required", "--synchronous=NORMAL"]
+            server.extra_args = ["--auth=required", "--synchronous=NORMAL", "--octomap_from_keyframes=true"]
             server.start()
             cls.port = server.port
             cls.admin = server.make_client(cls.tokens["admin"])
@@ -111,6 +111,16 @@ class ConsoleBrowserTest(unittest.TestCase):
                 {"id": "c", "position": [2.3, 0.9], "extent": [0.45, 0.45], "categories": {"chair": 0.8, "table": 0.2}},
                 {"id": "s", "position": [3.5, -1.2], "extent": [0.4, 1.0], "categories": {"shelf": 0.7, "table": 0.3}}]})
         c.request("POST", "/v1/maps/home/furniture-graphs/1/descriptions", {"text": "the chair is left of the table"})
+        # The OctoMap follows the stored keyframes (octomap_from_keyframes) in the background: wait until it has them all.
+        newest = max(k["id"] for sc in c.request("GET", "/v1/maps/home/scenes?limit=100")["scenes"]
+                     for k in c.request("GET", "/v1/maps/home/scenes/%d" % sc["id"])["keyframes"])
+        for _ in range(600):
+            tree = c.request("GET", "/v1/maps/home/octomap?format=json")
+            if tree["keyframes_through"] >= newest:
+                break
+            time.sleep(0.2)
+        else:
+            raise AssertionError("the OctoMap did not integrate keyframe %d: %s" % (newest, tree))
         # A second map with 10,000 events (dialog labels: each is a 'labelled' event).
         c.create_map("bulk")
         inst = c.create_instance("bulk", "cup", [1.0, 0.0, 0.0], kind="object")
@@ -145,6 +155,18 @@ class ConsoleBrowserTest(unittest.TestCase):
         print("screenshot", path)
         return path
 
+    def raw_get(self, path):
+        """An admin's GET: {"headers": {lower-case name: value}, "body": bytes}."""
+        conn = http.client.HTTPConnection("127.0.0.1", self.port, timeout=60)
+        try:
+            conn.request("GET", path, headers={"Authorization": "Bearer " + self.tokens["admin"]})
+            r = conn.getresponse()
+            body = r.read()
+            self.assertEqual(r.status, 200, body[:300])
+            return {"headers": {k.lower(): v for k, v in r.getheaders()}, "body": body}
+        finally:
+            conn.close()
+
     def js(self, script, *args):
         return self.driver.execute_script(script, *args)
 
@@ -176,6 +198,16 @@ class ConsoleBrowserTest(unittest.TestCase):
         self.assertEqual(len(self.driver.find_elements(By.CSS_SELECTOR, "#layers .legend canvas")), 1)
         self.assertIn("1 kitchen", self.driver.find_element(By.ID, "layers").text)
         self.assertIn("2 hall", self.driver.find_element(By.ID, "layers").text)
+        # The label layer: each category with the cells the API counts, and as many pixels of its colour in the image.
+        rooms = self.admin.request("GET", "/v1/maps/home/layers/rooms?format=json&statistics=true")
+        per_label = {k: v for k, v in rooms["statistics"]["cells_per_label"].items() if k != "0"}
+        self.assertEqual(sorted(per_label), ["1", "2"])
+        self.assertTrue(all(v > 0 for v in per_label.values()), per_label)
+        drawn = json.loads(self.js("return document.querySelector('#layers canvas[data-layer=rooms]').dataset.pixelsPerLabel;"))
+        self.assertEqual(drawn, per_label)
+        legend = self.js("return [...document.querySelectorAll('#layers .categories tr[data-label]')].map("
+                         "r => [r.dataset.label, r.cells[1].textContent, r.cells[2].textContent]);")
+        self.assertEqual(legend, [[k, "%s %s" % (k, rooms["labels"][k]), str(v)] for k, v in sorted(per_label.items())])
         self.assertIn("person person attends", self.driver.find_element(By.ID, "layers").text)
         # Ranked viewpoints around the surface the person attends, from the page (a reader's POST).
         expected = self.admin.viewpoints("home", [0.0, 0.0], "person", "attention")["viewpoints"]
@@ -200,11 +232,54 @@ class ConsoleBrowserTest(unittest.TestCase):
         w, h = self.js("const c = document.querySelector('#scene-detail canvas[data-layer=static]'); return [c.width, c.height];")
         self.assertEqual((w, h), (model["camera"]["width"], model["camera"]["height"]))
         self.assertIn("merge report", self.driver.find_element(By.ID, "scene-detail").text)
-        if model["merge"] and model["merge"].get("models_used"):
-            self.assertEqual(len(self.driver.find_elements(By.CSS_SELECTOR, "#merge-models tr")), len(model["merge"]["models_used"]) + 1)
+        # The reliability layer beside the other three: its brightest pixel is the model's largest weight (clamped at
+        # 255 in the PNG), and the caption says the API's figures.
+        rel = self.admin.request("GET", "/v1/maps/home/scenes/%d/layers/reliability?format=json" % newest)
+        drawn_max = int(self.js("return document.querySelector('#scene-detail canvas[data-layer=reliability]').dataset.maxValue;"))
+        self.assertGreater(rel["max_weight"], 0)
+        self.assertLessEqual(abs(drawn_max - min(255.0, rel["max_weight"])), 1.0, (drawn_max, rel))
+        self.assertIn("reliability: max weight %.1f" % rel["max_weight"], self.driver.find_element(By.ID, "scene-detail").text)
+        # The merge report: per earlier model used, the pixels of each rule as the API reports them.
+        merged = next((sc for sc in scenes if (self.admin.request("GET", "/v1/maps/home/scenes/%d" % sc["id"])["merge"] or {})
+                       .get("models_used")), None)
+        self.assertIsNotNone(merged, "the scenario has a merged scene model")
+        self.driver.find_element(By.CSS_SELECTOR, '#scene-list li[data-scene="%d"]' % merged["id"]).click()
+        report = self.admin.request("GET", "/v1/maps/home/scenes/%d" % merged["id"])["merge"]
+        self.wait(lambda d: d.find_elements(By.CSS_SELECTOR, "#merge-models tr[data-scene]") and
+                  d.find_element(By.CSS_SELECTOR, "#scene-list li.selected").get_attribute("data-scene") == str(merged["id"]),
+                  "merge report of scene %d" % merged["id"])
+        shown = self.js("""return [...document.querySelectorAll('#merge-models tr[data-scene]')].map(r =>
+            [Number(r.dataset.scene), Object.fromEntries([...r.querySelectorAll('td[data-rule]')].map(td =>
+              [td.dataset.rule, Number(td.textContent)]))]);""")
+        self.assertEqual(shown, [[u["scene"], u["pixels"]] for u in report["models_used"]])
+        self.assertGreater(sum(sum(u["pixels"].values()) for u in report["models_used"]), 0)
+        self.shot("02b-scene-merge-report")
+        self.driver.find_element(By.CSS_SELECTOR, '#scene-list li[data-scene="%d"]' % newest).click()
         # Every scene of the list, the merged ones too (their merge report).
         self.assertEqual(len(self.driver.find_elements(By.CSS_SELECTOR, "#scene-list li")), len(scenes))
         self.shot("02-scenes")
+
+    def test_2b_3d_view_draws_the_octomap_and_keyframe_clouds(self):
+        self.open("view3d")
+        self.wait(lambda d: d.find_elements(By.CSS_SELECTOR, "#view3d-canvas[data-lit-pixels]"), "3D view drawn")
+        tree = self.admin.request("GET", "/v1/maps/home/octomap?format=json")
+        voxels = self.raw_get("/v1/maps/home/octomap?format=pcd_binary")
+        canvas = self.js("return Object.assign({}, document.getElementById('view3d-canvas').dataset);")
+        # Every occupied voxel the API exports is drawn, and the tree has as many occupied leaves.
+        self.assertEqual(int(canvas["voxels"]), int(voxels["headers"]["x-points"]))
+        self.assertEqual(int(canvas["voxels"]), tree["occupied_leaves"])
+        self.assertGreater(tree["occupied_leaves"], 1000)
+        # The drawn keyframe's cloud: as many points as the API's export of it.
+        kfs = [int(k) for k in canvas["keyframes"].split(",")]
+        self.assertEqual(len(kfs), 1)
+        cloud = self.raw_get("/v1/maps/home/keyframes/%d/cloud?format=pcd_binary&frame=map" % kfs[0])
+        self.assertEqual(int(canvas["points"]), int(cloud["headers"]["x-points"]))
+        self.assertGreater(int(canvas["points"]), 10000)
+        # WebGL put them on the canvas: a good part of the 960 x 640 pixels is not the background.
+        self.assertGreater(int(canvas["litPixels"]), 960 * 640 // 20, canvas)
+        print(json.dumps({"view3d_voxels": int(canvas["voxels"]), "view3d_points": int(canvas["points"]),
+                          "view3d_lit_pixels": int(canvas["litPixels"])}))
+        self.shot("02c-3d-view")
 
     def test_3_events_timeline_with_evidence(self):
         self.open("events")
@@ -314,6 +389,19 @@ class ConsoleBrowserTest(unittest.TestCase):
         self.assertEqual(statuses, [403, 403, 403, 403])
         self.assertEqual(self.admin.request("GET", "/v1/maps/home/instances/%d" % inst["id"]), before)
         self.shot("08-reader")
+        # The events view: an event's detail shows no delete control to a reader, and the forged delete is refused.
+        self.open("events", role="reader")
+        event = self.reader.events("home", limit=1)["events"][0]
+        self.wait(lambda d: d.find_elements(By.CSS_SELECTOR, '#event-table tr[data-event="%d"]' % event["id"]), "event rows")
+        self.driver.find_element(By.CSS_SELECTOR, '#event-table tr[data-event="%d"]' % event["id"]).click()
+        self.wait(lambda d: d.find_elements(By.ID, "delete-event"), "event detail")
+        self.assertFalse(self.driver.find_element(By.ID, "delete-event").is_displayed())
+        status = self.driver.execute_async_script("""
+            const done = arguments[arguments.length - 1];
+            fetch('/v1/maps/home/events/' + arguments[1], {method: 'DELETE', headers: {'Authorization': 'Bearer ' + arguments[0]}})
+              .then(r => done(r.status));""", self.tokens["reader"], event["id"])
+        self.assertEqual(status, 403)
+        self.assertEqual(self.admin.request("GET", "/v1/maps/home/events/%d" % event["id"])["id"], event["id"])
 
     def test_8_events_page_of_a_10000_event_map_loads_under_1_s(self):
         self.assertGreaterEqual(self.admin.events("bulk", limit=1, after=BULK_EVENTS - 1)["events"][0]["id"], BULK_EVENTS)
@@ -329,6 +417,26 @@ class ConsoleBrowserTest(unittest.TestCase):
         self.driver.find_element(By.ID, "events-next").click()
         self.wait(lambda d: d.find_element(By.ID, "events-page").text.startswith("50 events after id 5"), "second page")
         self.shot("09-events-10000")
+
+    def test_9_operator_deletes_a_wrong_event_from_the_timeline(self):
+        self.open("events", map_id="bulk")
+        wrong = self.admin.events("bulk", limit=1)["events"][0]
+        self.wait(lambda d: d.find_elements(By.CSS_SELECTOR, '#event-table tr[data-event="%d"]' % wrong["id"]), "event rows")
+        self.driver.find_element(By.CSS_SELECTOR, '#event-table tr[data-event="%d"]' % wrong["id"]).click()
+        self.wait(lambda d: d.find_elements(By.ID, "delete-event") and d.find_element(By.ID, "delete-event").is_displayed(),
+                  "delete control")
+        self.js("window.confirm = () => true;")
+        self.driver.find_element(By.ID, "delete-event").click()
+        self.wait(lambda d: d.find_element(By.ID, "status").text == "event %d deleted" % wrong["id"] and
+                  not d.find_elements(By.CSS_SELECTOR, '#event-table tr[data-event="%d"]' % wrong["id"]), "event gone from the page")
+        with self.assertRaises(ApiError) as refused:
+            self.admin.request("GET", "/v1/maps/bulk/events/%d" % wrong["id"])
+        self.assertEqual(refused.exception.status, 404)
+        self.assertEqual(self.admin.events("bulk", limit=1)["events"][0]["id"], wrong["id"] + 1)
+        audit = self.admin.request("GET", "/v1/audit?map=bulk&action=event.delete")["entries"]
+        self.assertEqual([(e["resource"], e["status"], e["before"]["id"], e["after"]) for e in audit],
+                         [("event=%d" % wrong["id"], 200, wrong["id"], None)])
+        self.shot("10-event-deleted")
 
 
 if __name__ == "__main__":

@@ -2,13 +2,18 @@
 its two examples built against the *installed* package (find_package(anchordb_client)), then run against the real
 server with tokens: the perception loop posts depth frames from its uint16 buffer and gets a change event, the dialog
 component labels the object, asks where it is (the sentence the API gives), meets the typed error of an unknown
-label, and waits for a forgetting dry run with progress."""
+label, and waits for a forgetting dry run with progress. And acceptance 5 of issue 18: the examples, with no --port
+or --token, against the server started with the very arguments of ./scripts/run (127.0.0.1:8765, auth auto)."""
 
 import os
 import re
+import select
+import shlex
 import shutil
+import socket
 import subprocess
 import tempfile
+import threading
 import unittest
 
 import harness
@@ -21,6 +26,24 @@ def run(args, cwd=None, timeout=600):
     if out.returncode != 0:
         raise AssertionError("%s failed (%d):\n%s\n%s" % (" ".join(args), out.returncode, out.stdout[-3000:], out.stderr[-3000:]))
     return out.stdout
+
+
+def scripts_run_serve_args():
+    """The arguments ./scripts/run gives `anchordb serve` (its exec line, without the caller's "$@")."""
+    with open(os.path.join(ROOT, "scripts", "run")) as f:
+        m = re.search(r'^exec \S*/anchordb serve (.*?) "\$@"\s*$', f.read(), re.M)
+    if not m:
+        raise AssertionError("scripts/run has no `exec .../anchordb serve ... \"$@\"` line")
+    return shlex.split(m.group(1))
+
+
+def port_is_free(host, port):
+    with socket.socket() as s:
+        try:
+            s.bind((host, port))
+            return True
+        except OSError:
+            return False
 
 
 class CppClientTest(unittest.TestCase):
@@ -78,6 +101,41 @@ class CppClientTest(unittest.TestCase):
         job = re.search(r"forget dry run: succeeded", dialog)
         self.assertIsNotNone(job, dialog)
         self.assertRegex(dialog, r"job \d+ succeeded \S* 100%")
+
+    def test_examples_with_their_defaults_against_the_server_as_scripts_run_starts_it(self):
+        args = scripts_run_serve_args()
+        self.assertEqual(args[args.index("--bind") + 1], "127.0.0.1")
+        port = int(args[args.index("--port") + 1])
+        self.assertEqual(port, 8765)
+        extra = []  # the examples' own defaults: 127.0.0.1:8765, no token (auth auto: open on loopback)
+        if not port_is_free("127.0.0.1", port):  # another server (a developer's ./scripts/run) holds it
+            args[args.index("--port") + 1] = "0"
+            extra = None
+        home = tempfile.mkdtemp(prefix="anchordb-scripts-run-", dir=self.tmp)
+        os.makedirs(os.path.join(home, "var"))  # scripts/run's mkdir -p var; --db ./var/anchordb.sqlite from here
+        with open(os.path.join(home, "stderr.txt"), "wb") as err:
+            proc = subprocess.Popen([harness.binary(), "serve"] + args, cwd=home, stdout=subprocess.PIPE, stderr=err,
+                                    env=harness.clean_env())
+        self.addCleanup(lambda: (proc.poll() is None and proc.terminate(), proc.wait(timeout=20)))
+        ready, _, _ = select.select([proc.stdout], [], [], harness.START_TIMEOUT_S)
+        line = proc.stdout.readline().decode() if ready else ""
+        m = re.search(r"anchordb listening on http://127\.0\.0\.1:(\d+)", line)
+        self.assertIsNotNone(m, "server started as scripts/run does printed %r" % line)
+        threading.Thread(target=harness.Server._drain, args=(proc.stdout,), daemon=True).start()
+        if extra is None:
+            extra = ["--port", m.group(1)]
+        print("server: anchordb serve %s (listening on %s)" % (" ".join(args), m.group(1)))
+        loop = run([os.path.join(self.examples, "perception_loop")] + extra, timeout=300)
+        print(loop)
+        self.assertIn("scene 1 opened", loop)
+        self.assertRegex(loop, r"[1-9]\d* events")
+        dialog = run([os.path.join(self.examples, "dialog_where")] + extra + ["--label", "keys"], timeout=300)
+        print(dialog)
+        self.assertIn("where: ", dialog)
+        self.assertIn("unknown label: 404 not_found (field label)", dialog)
+        self.assertTrue(os.path.getsize(os.path.join(home, "var", "anchordb.sqlite")) > 0)
+        proc.terminate()
+        self.assertEqual(proc.wait(timeout=20), 0)
 
 
 if __name__ == "__main__":
