@@ -1,6 +1,6 @@
 // The 3D view: the map's OctoMap (its occupied voxel centres, GET .../octomap?format=pcd_binary) and keyframe point
 // clouds in the map frame (GET .../keyframes/{kf}/cloud?format=pcd_binary&frame=map), drawn with WebGL as points.
-// REP-103: x forward, y left, z up [m]. Drag to orbit, wheel to zoom. Voxels are coloured by height, clouds grey.
+// REP-103: x forward, y left, z up [m]. Drag to orbit, wheel to zoom. Voxels are coloured by height, clouds orange.
 'use strict';
 
 const Pcd = {
@@ -125,7 +125,7 @@ class PointScene {
   // Looks at the middle of a box [min, max] from far enough to see all of it.
   frame(min, max) {
     this.centre = [0, 1, 2].map(k => (min[k] + max[k]) / 2);
-    this.distance = Math.max(1, 1.3 * Math.hypot(max[0] - min[0], max[1] - min[1], max[2] - min[2]));
+    this.distance = Math.max(1, 1.1 * Math.hypot(max[0] - min[0], max[1] - min[1], max[2] - min[2]));
   }
   draw() {
     const gl = this.gl, c = this.canvas, fovy = 50 * Math.PI / 180;
@@ -200,22 +200,31 @@ Console.views.view3d = {
     const scene = this.scene, canvas = scene.canvas;
     scene.clear();
     let voxels = 0, points = 0;
-    const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
-    const grow = xyz => { for (let i = 0; i < xyz.length; ++i) if (isFinite(xyz[i])) { lo[i % 3] = Math.min(lo[i % 3], xyz[i]); hi[i % 3] = Math.max(hi[i % 3], xyz[i]); } };
+    // Framed on where most of the points are (2 % and 98 % per axis of a sample): a few far rays do not shrink the view.
+    const sample = [[], [], []];
+    const grow = xyz => {
+      const step = 3 * Math.max(1, Math.floor(xyz.length / 3 / 20000));
+      for (let i = 0; i + 2 < xyz.length; i += step) {
+        if (isFinite(xyz[i]) && isFinite(xyz[i + 1]) && isFinite(xyz[i + 2])) for (let k = 0; k < 3; ++k) sample[k].push(xyz[i + k]);
+      }
+    };
     const clouds = [];
     for (const id of keyframeIds) clouds.push(await fetchCloud(M() + '/keyframes/' + id + '/cloud?format=pcd_binary&frame=map'));
     for (const c of clouds) {
-      grow(c.xyz);
-      points += scene.add(c.xyz, () => [0.62, 0.66, 0.72], null);
+      grow(c.xyz);  // framed on the chosen keyframes when there are any, else on the whole tree
+      points += scene.add(c.xyz, () => [0.98, 0.62, 0.2], null);
     }
     if (tree && $('#view3d-voxels').checked) {
       const v = await fetchCloud(M() + '/octomap?format=pcd_binary');
-      grow(v.xyz);
+      if (!clouds.length) grow(v.xyz);
       const z0 = tree.bbox ? tree.bbox.min[2] : 0, z1 = tree.bbox ? tree.bbox.max[2] : 1;
       voxels = scene.add(v.xyz, (x, y, z) => Images.colour((z - z0) / Math.max(1e-6, z1 - z0)).map(k => k / 255), tree.resolution_m);
     }
-    if (tree && tree.bbox) { grow(tree.bbox.min); grow(tree.bbox.max); }
-    if (lo[0] <= hi[0]) scene.frame(lo, hi);
+    if (sample[0].length) {
+      const q = (a, f) => a[Math.min(a.length - 1, Math.floor(f * a.length))];
+      for (const a of sample) a.sort((x, y) => x - y);
+      scene.frame(sample.map(a => q(a, 0.02)), sample.map(a => q(a, 0.98)));
+    }
     scene.draw();
     canvas.dataset.voxels = voxels;
     canvas.dataset.points = points;
@@ -223,7 +232,7 @@ Console.views.view3d = {
     canvas.dataset.litPixels = scene.litPixels();
     $('#view3d-caption').textContent = (tree ? voxels.toLocaleString('en') + ' occupied voxels of the OctoMap (resolution ' +
       tree.resolution_m + ' m, coloured by height), ' : 'this map has no OctoMap; ') + points.toLocaleString('en') +
-      ' points of keyframe' + (keyframeIds.length === 1 ? ' ' : 's ') + (keyframeIds.join(', ') || 'none') + ' (grey). Drag to orbit, wheel to zoom.';
+      ' points of keyframe' + (keyframeIds.length === 1 ? ' ' : 's ') + (keyframeIds.join(', ') || 'none') + ' (orange). Drag to orbit, wheel to zoom.';
   },
 };
 $('#view3d-voxels').addEventListener('change', () => Console.views.view3d.show().catch(Console.fail));

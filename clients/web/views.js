@@ -228,6 +228,7 @@ Console.views.events = {
     } }, 'delete event');
     box.replaceChildren(el('h3', {}, e.type + ' event ' + id), el('p', {}, e.explanation), kv({ time: fmtTime(e.stamp_ns),
       detection: e.detection, instance: e.instance, label: e.label, scene: e.scene }), edit, del);
+    Console.applyRole();  // before the evidence loads: no moment where a reader sees the edit controls
     if (e.details && e.details.segment) box.append(el('p', {}, 'segment: centroid ' + fmtVec(e.details.segment.centroid_m) +
       ' m, extent ' + fmtVec(e.details.segment.extent_m) + ' m, ' + e.details.segment.points + ' points'));
     let outline = null;
