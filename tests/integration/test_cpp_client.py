@@ -136,6 +136,7 @@ class CppClientTest(unittest.TestCase):
         self.assertTrue(os.path.getsize(os.path.join(home, "var", "anchordb.sqlite")) > 0)
         proc.terminate()
         self.assertEqual(proc.wait(timeout=20), 0)
+        proc.stdout.close()
 
 
 if __name__ == "__main__":
