@@ -5,9 +5,9 @@
 namespace anchordb::sim {
 namespace {
 
-class Builder {
+class RoomBuilder {
  public:
-  Builder(Room& room, std::uint64_t seed) : room_(room), rng_(seed) {}
+  RoomBuilder(Room& room, std::uint64_t seed) : room_(room), rng_(seed) {}
 
   double Uniform(double lo, double hi) { return lo + (hi - lo) * static_cast<double>(rng_() >> 11) * (1.0 / 9007199254740992.0); }
   double Vary(double v) { return v * Uniform(0.85, 1.15); }
@@ -85,7 +85,7 @@ class Builder {
   std::mt19937_64 rng_;
 };
 
-void Furnish(Builder& b, int category, const Eigen::Vector2d& size) {
+void Furnish(RoomBuilder& b, int category, const Eigen::Vector2d& size) {
   switch (category) {
     case 0: {  // bedroom: a bed with headboard, nightstands, a wardrobe
       const auto p = b.AgainstWall(2.0);
@@ -108,7 +108,7 @@ void Furnish(Builder& b, int category, const Eigen::Vector2d& size) {
       for (int i = 0; i < chairs; ++i) {
         const double side = i % 2 ? 1 : -1;
         const double u = (static_cast<double>(i / 2) - (chairs / 2 - 1) / 2.0) * 0.6;
-        Builder::Place c{p.At(u, side * (sy / 2 + 0.3)).x(), p.At(u, side * (sy / 2 + 0.3)).y(), p.yaw + (side > 0 ? M_PI : 0)};
+        RoomBuilder::Place c{p.At(u, side * (sy / 2 + 0.3)).x(), p.At(u, side * (sy / 2 + 0.3)).y(), p.yaw + (side > 0 ? M_PI : 0)};
         b.Chair(c);
       }
       if (b.Chance(0.7)) b.Cabinet(b.AgainstWall(0.45), b.Vary(1.6), 0.45, b.Vary(0.85));
@@ -187,7 +187,7 @@ const char* RoomCategoryName(int category) {
 Room MakeRoom(int category, std::uint64_t seed) {
   Room room;
   room.category = category;
-  Builder b(room, seed * 7919u + static_cast<std::uint64_t>(category));
+  RoomBuilder b(room, seed * 7919u + static_cast<std::uint64_t>(category));
   // Bathrooms are small, living rooms large.
   const double base[kRoomCategoryCount][2] = {{3.6, 3.4}, {3.8, 3.6}, {5.0, 4.2}, {2.4, 2.2}, {3.2, 3.0}, {3.4, 3.0}};
   room.size_m = Eigen::Vector2d(b.Vary(base[category][0]), b.Vary(base[category][1]));

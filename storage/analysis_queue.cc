@@ -3,7 +3,7 @@
 namespace anchordb::storage {
 namespace {
 
-constexpr const char* kColumns = "keyframe_id, map_id, scene_id, enqueued_ns, attempts, next_attempt_ns, last_error, failed";
+constexpr const char* kQueueColumns = "keyframe_id, map_id, scene_id, enqueued_ns, attempts, next_attempt_ns, last_error, failed";
 
 QueuedAnalysis RowOf(Statement& s) {
   QueuedAnalysis q;
@@ -26,7 +26,7 @@ void EnqueueAnalysis(Connection& c, const QueuedAnalysis& q) {
 }
 
 std::vector<QueuedAnalysis> QueueHeads(Connection& c) {
-  Statement s(c, std::string("SELECT ") + kColumns + " FROM keyframe_analysis_queue WHERE keyframe_id IN "
+  Statement s(c, std::string("SELECT ") + kQueueColumns + " FROM keyframe_analysis_queue WHERE keyframe_id IN "
                  "(SELECT min(keyframe_id) FROM keyframe_analysis_queue WHERE failed = 0 GROUP BY map_id) ORDER BY keyframe_id");
   std::vector<QueuedAnalysis> out;
   while (s.Step()) out.push_back(RowOf(s));
@@ -34,7 +34,7 @@ std::vector<QueuedAnalysis> QueueHeads(Connection& c) {
 }
 
 std::optional<QueuedAnalysis> FindQueuedAnalysis(Connection& c, std::int64_t keyframe_id) {
-  Statement s(c, std::string("SELECT ") + kColumns + " FROM keyframe_analysis_queue WHERE keyframe_id = ?");
+  Statement s(c, std::string("SELECT ") + kQueueColumns + " FROM keyframe_analysis_queue WHERE keyframe_id = ?");
   s.Bind(1, keyframe_id);
   if (!s.Step()) return std::nullopt;
   return RowOf(s);
@@ -65,7 +65,7 @@ AnalysisQueueSummary SummariseAnalysisQueue(Connection& c, const std::optional<s
     out.retrying = s.Int(2);
     if (!s.IsNull(3)) out.oldest_enqueued_ns = s.Int(3);
   }
-  Statement s(c, std::string("SELECT ") + kColumns + " FROM keyframe_analysis_queue" + (map ? where + " AND" : " WHERE") +
+  Statement s(c, std::string("SELECT ") + kQueueColumns + " FROM keyframe_analysis_queue" + (map ? where + " AND" : " WHERE") +
                  " attempts > 0 ORDER BY keyframe_id LIMIT ?");
   int k = 1;
   if (map) s.Bind(k++, *map);

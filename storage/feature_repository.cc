@@ -22,7 +22,7 @@ std::vector<float> DecodeFloats(const std::string& blob, std::size_t count, cons
   return *v;
 }
 
-constexpr const char* kColumns =
+constexpr const char* kFeatureColumns =
     "f.id, f.map_id, f.type, f.dims, f.descriptor, f.x_m, f.y_m, f.z_m, f.keyframe_id, f.stamp_ns, f.codeword";
 
 FeatureRecord ReadFeature(const Statement& s, bool descriptors) {
@@ -54,7 +54,7 @@ std::int64_t InsertFeature(Connection& c, const FeatureRecord& f) {
 }
 
 std::vector<FeatureRecord> ListFeatures(Connection& c, const std::string& map, const FeatureFilter& q) {
-  std::string sql = std::string("SELECT ") + kColumns + " FROM features f";
+  std::string sql = std::string("SELECT ") + kFeatureColumns + " FROM features f";
   const bool spatial = q.box_min_m.has_value() || q.near_m.has_value();
   if (spatial) sql += " JOIN feature_anchors a ON a.id = f.id";
   sql += " WHERE f.map_id = ? AND f.id > ?";

@@ -3,7 +3,7 @@
 namespace anchordb::storage {
 namespace {
 
-constexpr const char* kColumns =
+constexpr const char* kFurnitureColumns =
     "instance_id, map_id, classifier, min_z_m, height_m, observations, evidence_json, job_id, created_ns, updated_ns";
 
 FurnitureInstanceRecord Row(const Statement& s, bool with_cloud) {
@@ -22,7 +22,7 @@ FurnitureInstanceRecord Row(const Statement& s, bool with_cloud) {
   return r;
 }
 
-std::string Select(bool with_cloud) { return std::string("SELECT ") + kColumns + (with_cloud ? ", cloud" : "") + " FROM furniture_instances "; }
+std::string Select(bool with_cloud) { return std::string("SELECT ") + kFurnitureColumns + (with_cloud ? ", cloud" : "") + " FROM furniture_instances "; }
 
 }  // namespace
 

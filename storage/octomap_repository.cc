@@ -7,7 +7,7 @@ namespace anchordb::storage {
 
 namespace {
 
-constexpr const char* kColumns =
+constexpr const char* kOctomapColumns =
     "map_id, format, version, resolution_m, prob_hit, prob_miss, clamp_min, clamp_max, occupancy_threshold, "
     "max_range_m, base_stamp_ns, leaves, occupied_leaves, created_ns, updated_ns, length(tree), length(stamps), "
     "keyframes_through, events_through";
@@ -39,7 +39,7 @@ OctomapRecord Row(const Statement& s) {
 }  // namespace
 
 std::optional<OctomapRecord> FindOctomap(Connection& c, const std::string& map_id, bool with_blobs) {
-  Statement s(c, std::string("SELECT ") + kColumns + (with_blobs ? ", tree, stamps" : "") +
+  Statement s(c, std::string("SELECT ") + kOctomapColumns + (with_blobs ? ", tree, stamps" : "") +
                      " FROM octomaps WHERE map_id = ?");
   s.Bind(1, map_id);
   if (!s.Step()) return std::nullopt;

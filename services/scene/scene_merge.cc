@@ -13,9 +13,10 @@ namespace anchordb::services {
 using namespace scene_detail;
 namespace docs = scene_documents;
 
-namespace {
+namespace scene_detail {
 
-// What the merge depends on of an earlier model's row (nullopt: gone).
+// What the merge depends on of an earlier model's row (nullopt: gone). In scene_detail rather than file-local: it is a
+// member type of SceneService::PriorSnapshot.
 struct ModelStamp {
   bool exists = false;
   std::string status;
@@ -30,6 +31,10 @@ ModelStamp StampOf(const std::optional<storage::SceneRecord>& r) {
   if (!r) return {};
   return {true, r->status, r->superseded_by, r->state_version, r->frames, r->forgotten_ns};
 }
+
+}  // namespace scene_detail
+
+namespace {
 
 MergedModel ReportOf(const engine::MergeModelReport& r) {
   MergedModel m;
