@@ -181,9 +181,29 @@ engine::OccupancyGrid Occupancy(const Room& room) {
 }  // namespace
 
 const char* SpeakerName(Speaker s) { return s == Speaker::kRelative ? "relative" : s == Speaker::kMixed ? "mixed" : "intrinsic"; }
-const char* ModelName(Model m) { return m == Model::kThesis ? "thesis model" : "issue 17"; }
+const char* ModelName(Model m) { return m == Model::kThesis ? "thesis model" : m == Model::kIssue17 ? "issue 17" : "joint"; }
 
-RoomResult RunRoom(std::uint64_t seed, Speaker speaker, int quality, Model model) {
+GroundingParams JointOptions() {
+  GroundingParams p;
+  p.model = engine::grounding::Model::kJoint;
+  p.ambiguity_margin = 1.0;
+  p.category_floor = 0.05;
+  return p;
+}
+
+namespace {
+
+GroundingParams ParamsOf(Model model) {
+  if (model == Model::kJoint) return JointOptions();
+  GroundingParams p;
+  if (model == Model::kIssue17) {
+    p.ambiguity_margin = 0.02;
+    p.category_floor = 0.05;
+  }
+  return p;
+}
+
+RoomResult Run(std::uint64_t seed, Speaker speaker, int quality, const GroundingParams* given, Model model) {
   const Knowledge& k = DefaultKnowledge();
   const int kc = k.categories.size();
   const Room room = MakeRoom(seed, speaker, k);
@@ -197,12 +217,10 @@ RoomResult RunRoom(std::uint64_t seed, Speaker speaker, int quality, Model model
   }
   const Viewpoint view{kViewer, 0.0};
   FurnitureGraph graph = BuildFurnitureGraph(view, furniture, kc, GraphParams{});
-  GroundingParams params;
-  if (model == Model::kIssue17) {
+  const GroundingParams params = given ? *given : ParamsOf(model);
+  if (given || model != Model::kThesis) {
     const engine::OccupancyGrid occupancy = Occupancy(room);
     graph.initial.orientation = RoomOrientationPrior(view, furniture, k.categories, RoomLayout{&occupancy, {}});
-    params.ambiguity_margin = 0.02;
-    params.category_floor = 0.05;
   }
   HypothesisSet set = InitialHypotheses(graph);
   std::vector<Room::Said> grounded;
@@ -234,6 +252,21 @@ RoomResult RunRoom(std::uint64_t seed, Speaker speaker, int quality, Model model
   return r;
 }
 
+}  // namespace
+
+RoomResult RunRoom(std::uint64_t seed, Speaker speaker, int quality, Model model) {
+  return Run(seed, speaker, quality, nullptr, model);
+}
+
+RoomResult RunRoom(std::uint64_t seed, Speaker speaker, int quality, const GroundingParams& params) {
+  return Run(seed, speaker, quality, &params, Model::kJoint);
+}
+
+double Table::DescriptionRate(Model m) const {
+  const Cell a = Over(m, 0), b = Over(m, 1);
+  return a.descriptions + b.descriptions ? double(a.right + b.right) / double(a.descriptions + b.descriptions) : 0.0;
+}
+
 Cell Table::Over(Model m, int quality) const {
   Cell all;
   for (const Cell& c : cells[static_cast<int>(m)][quality]) {
@@ -246,14 +279,17 @@ Cell Table::Over(Model m, int quality) const {
   return all;
 }
 
-Table Evaluate(int rooms, std::uint64_t first_seed) {
+Table Evaluate(int rooms, std::uint64_t first_seed, const std::vector<Model>& models, const GroundingParams* joint) {
   Table table;
-  for (int m = 0; m < 2; ++m) {
+  for (const Model model : models) {
+    const int m = static_cast<int>(model);
     for (int q = 0; q < 2; ++q) {
       for (int s = 0; s < 3; ++s) {
         Cell& cell = table.cells[m][q][s];
         for (int i = 0; i < rooms; ++i) {
-          const RoomResult r = RunRoom(first_seed + static_cast<std::uint64_t>(i), static_cast<Speaker>(s), q, static_cast<Model>(m));
+          const std::uint64_t seed = first_seed + static_cast<std::uint64_t>(i);
+          const RoomResult r = model == Model::kJoint && joint ? RunRoom(seed, static_cast<Speaker>(s), q, *joint)
+                                                               : RunRoom(seed, static_cast<Speaker>(s), q, model);
           ++cell.rooms;
           cell.graphs_right += r.graph_right;
           cell.descriptions += r.descriptions;
