@@ -59,7 +59,7 @@ void BM_Ground20Descriptions(benchmark::State& state) {
     params.category_floor = 0.05;
   } else if (state.range(2) == 2) {  // the joint model (engine/grounding/joint_model.h), margin in nats
     params.model = g::Model::kJoint;
-    params.ambiguity_margin = 1.0;
+    params.ambiguity_margin = 0.3;
     params.category_floor = 0.05;
   }
   for (auto _ : state) {

@@ -39,6 +39,9 @@ RoomResult RunRoom(std::uint64_t seed, Speaker speaker, int quality, Model model
 // The same with explicit grounding parameters (the room prior is always used).
 RoomResult RunRoom(std::uint64_t seed, Speaker speaker, int quality, const engine::grounding::GroundingParams& params);
 
+// Prints one room's descriptions, their matches and the pieces' categories at the end to stderr (diagnosis).
+void TraceRoom(std::uint64_t seed, Speaker speaker, int quality, const engine::grounding::GroundingParams& params);
+
 struct Cell {
   int rooms = 0, graphs_right = 0;
   long descriptions = 0, right = 0;

@@ -1,8 +1,8 @@
 // Prints the adversarial grounding evaluation of issue 17 as the issue's table: the thesis model, issue 17's
 // sequential model and the joint model in the same run, per speaker type and quality, with the worst room.
 //   anchordb_eval_grounding_adversarial [--rooms N] [--seed S] [--models thesis,issue17,joint]
-//       [--slack X] [--sight X] [--proximity_m X] [--strength X] [--noise X] [--margin X] [--floor X]
-// The last options change the joint model's parameters (JointOptions() otherwise).
+//       [--slack X] [--sight X] [--proximity_m X] [--strength X] [--noise X] [--margin X] [--floor X] [--failures 1]
+// --failures 1 traces every room whose graph the joint model ends with a piece wrong (stderr). The other options change the joint model's parameters (JointOptions() otherwise).
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   std::vector<Model> models = {Model::kThesis, Model::kIssue17, Model::kJoint};
   anchordb::engine::grounding::GroundingParams joint = JointOptions();
+  bool failures = false;
   for (int i = 1; i + 1 < argc; i += 2) {
     const double x = std::atof(argv[i + 1]);
     if (std::strcmp(argv[i], "--rooms") == 0) rooms = std::atoi(argv[i + 1]);
@@ -29,6 +30,7 @@ int main(int argc, char** argv) {
     else if (std::strcmp(argv[i], "--noise") == 0) joint.joint.naming_noise = x;
     else if (std::strcmp(argv[i], "--margin") == 0) joint.ambiguity_margin = x;
     else if (std::strcmp(argv[i], "--floor") == 0) joint.category_floor = x;
+    else if (std::strcmp(argv[i], "--failures") == 0) failures = std::atoi(argv[i + 1]) != 0;
     else if (std::strcmp(argv[i], "--models") == 0) {
       models.clear();
       const std::string list = argv[i + 1];
@@ -38,6 +40,19 @@ int main(int argc, char** argv) {
     } else {
       return std::fprintf(stderr, "unknown option %s\n", argv[i]), 2;
     }
+  }
+  if (failures) {  // every joint room whose graph ends wrong, traced
+    for (int q = 0; q < 2; ++q) {
+      for (int s = 0; s < 3; ++s) {
+        for (int i = 0; i < rooms; ++i) {
+          if (RunRoom(seed + static_cast<std::uint64_t>(i), static_cast<Speaker>(s), q, joint).graph_right) continue;
+          std::fprintf(stderr, "room seed %llu, %s speaker, quality %c\n", static_cast<unsigned long long>(seed + i),
+                       SpeakerName(static_cast<Speaker>(s)), "AB"[q]);
+          TraceRoom(seed + static_cast<std::uint64_t>(i), static_cast<Speaker>(s), q, joint);
+        }
+      }
+    }
+    return 0;
   }
   const Table t = Evaluate(rooms, seed, models, &joint);
   std::printf("Adversarial grounding evaluation (issue 17): %d rooms per speaker type, seeds %llu..%llu\n", rooms,
