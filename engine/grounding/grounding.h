@@ -122,7 +122,7 @@ const char* ModelId(Model m);  // "sequential", "joint"
 struct JointParams {
   double edge_fit_slack = 0.5;         // share of an edge's relation fit that is uniform (borderline angles), [0, 1]
   double line_of_sight_weight = 0.5;   // share of the line-of-sight frame in a relative reading's fit, [0, 1]
-  double proximity_scale_m = 0.15;     // P(reference | located) ∝ exp(-gap / scale) over the located piece's edges [m]
+  double proximity_scale_m = 0.2;      // P(reference | located) ∝ exp(-gap / scale) over the located piece's edges [m]
   double frame_prior_strength = 5.0;   // pseudo-descriptions of the Beta prior over the speaker's frame preference
   double naming_noise = 0.05;          // P(a speaker names a piece by another category than its own), (0, 1)
 };
