@@ -39,9 +39,14 @@ g::Viewpoint ParseViewpoint(const Json& j) {
 
 GraphParamsRequest ParseParams(const Json& j) {
   if (!j.is_object()) BadArgument("params must be an object", "params");
-  json::RejectUnknownKeys(j, {"n_best", "sigma", "edge_max_gap_m", "relation_sharpness", "adaptation", "frame_prior",
+  json::RejectUnknownKeys(j, {"model", "n_best", "sigma", "edge_max_gap_m", "relation_sharpness", "adaptation", "frame_prior",
                               "ambiguity_margin", "category_floor", "orientation_prior", "occupancy_layer"}, "params");
   GraphParamsRequest p;
+  if (const auto model = json::OptionalString(j, "model", limits::kWordLength, "params")) {
+    if (*model == "joint") p.model = g::Model::kJoint;
+    else if (*model == "sequential") p.model = g::Model::kSequential;
+    else BadArgument("model must be sequential or joint", "params.model");
+  }
   if (Given(j, "n_best")) p.n_best = json::IntegerOr(j, "n_best", 0, "params");
   if (Given(j, "sigma")) p.sigma = json::FiniteNumberOr(j, "sigma", 0.0, "params");
   if (Given(j, "edge_max_gap_m")) p.edge_max_gap_m = json::FiniteNumberOr(j, "edge_max_gap_m", 0.0, "params");
@@ -101,7 +106,7 @@ Json Vec(const Eigen::Vector2d& v) { return Json::array({v.x(), v.y()}); }
 Json ViewpointJson(const g::Viewpoint& v) { return {{"position", Vec(v.position_m)}, {"heading_rad", v.heading_rad}}; }
 
 Json ParamsJson(const FurnitureGraphParams& p) {
-  return {{"n_best", p.n_best}, {"sigma", p.sigma}, {"edge_max_gap_m", p.edge_max_gap_m}, {"relation_sharpness", p.relation_sharpness},
+  return {{"model", g::ModelId(p.model)}, {"n_best", p.n_best}, {"sigma", p.sigma}, {"edge_max_gap_m", p.edge_max_gap_m}, {"relation_sharpness", p.relation_sharpness},
           {"adaptation", p.adaptation}, {"frame_prior", p.frame_prior == FramePrior::kUniform ? "uniform" : "statistical"},
           {"ambiguity_margin", p.ambiguity_margin}, {"category_floor", p.category_floor},
           {"orientation_prior", p.orientation_prior == OrientationPrior::kRoom ? "room" : "uniform"},

@@ -19,7 +19,7 @@ std::int64_t GraphId(const PathParams& p) { return PathId(p, "graph", "furniture
 void RegisterFurnitureRoutes(Router& router, FurnitureService& f) {
   router.Add("POST", "/v1/maps/{map}/furniture-graphs", Role::kWriter,
       "Build a furniture graph from furniture seen from a viewpoint (viewpoint, furniture with category "
-      "probabilities, params n_best/sigma/edge_max_gap_m/relation_sharpness/adaptation/frame_prior/ambiguity_margin/category_floor/orientation_prior/occupancy_layer)",
+      "probabilities, params model/n_best/sigma/edge_max_gap_m/relation_sharpness/adaptation/frame_prior/ambiguity_margin/category_floor/orientation_prior/occupancy_layer)",
       [&f](const httplib::Request& req, const PathParams& p) {
         return JsonResponse(ToJson(f.Create(p["map"], ParseCreateGraph(json::ParseObject(req.body)))), 201);
       });

@@ -35,15 +35,29 @@ bool IsPoorMatch(const FurnitureGraph& graph, const GraphState& state, const Des
          p(graph.Reference(match.directed_edge), d.reference) < category_floor;
 }
 
+namespace {
+
+GroundingParams SequentialParams(double sigma, double category_floor) {
+  GroundingParams p;
+  p.sigma = sigma;
+  p.category_floor = category_floor;
+  return p;
+}
+
+}  // namespace
+
 void SettleHeld(const FurnitureGraph& graph, HypothesisSet& set, std::size_t held_index, double sigma, double category_floor) {
+  SettleHeld(graph, set, held_index, SequentialParams(sigma, category_floor));
+}
+
+void SettleHeld(const FurnitureGraph& graph, HypothesisSet& set, std::size_t held_index, const GroundingParams& params) {
   const HeldStep held = set.held.at(held_index);
   for (Hypothesis& h : set.ranked) {
     if (static_cast<std::size_t>(held.step) >= h.matches.size()) continue;
     // Confirmation by any other description of the sequence counts, earlier or later than the held one.
     std::vector<Match> others = h.matches;
     others.erase(others.begin() + held.step);
-    ApplyCategoryUpdate(graph, h.state, held.description, h.matches[static_cast<std::size_t>(held.step)], sigma,
-                        category_floor, others);
+    ApplyCategoryUpdate(graph, h.state, held.description, h.matches[static_cast<std::size_t>(held.step)], params, others);
   }
   set.held.erase(set.held.begin() + static_cast<std::ptrdiff_t>(held_index));
 }
@@ -53,7 +67,7 @@ std::vector<int> SettleClearSteps(const FurnitureGraph& graph, HypothesisSet& se
   for (std::size_t i = 0; i < set.held.size();) {
     const int step = set.held[i].step;
     if (AlternativesAt(graph, set, step, params.ambiguity_margin, 2).size() == 1) {
-      SettleHeld(graph, set, i, params.sigma, params.category_floor);
+      SettleHeld(graph, set, i, params);
       settled.push_back(step);
     } else {
       ++i;
@@ -64,6 +78,12 @@ std::vector<int> SettleClearSteps(const FurnitureGraph& graph, HypothesisSet& se
 
 void KeepPair(const FurnitureGraph& graph, HypothesisSet& set, int step, int located, int reference, double sigma,
               double category_floor) {
+  KeepPair(graph, set, step, located, reference, SequentialParams(sigma, category_floor));
+}
+
+void KeepPair(const FurnitureGraph& graph, HypothesisSet& set, int step, int located, int reference,
+              const GroundingParams& params) {
+  const double category_floor = params.category_floor;
   const auto held = std::find_if(set.held.begin(), set.held.end(), [&](const HeldStep& h) { return h.step == step; });
   if (held == set.held.end()) {
     throw Error(ErrorCode::kConflict, "description " + std::to_string(step + 1) + " is not awaiting a resolution", "seq");
@@ -87,7 +107,7 @@ void KeepPair(const FurnitureGraph& graph, HypothesisSet& set, int step, int loc
   std::vector<Hypothesis> ranked;
   for (std::size_t i : kept) ranked.push_back(std::move(set.ranked[i]));
   set.ranked = std::move(ranked);
-  SettleHeld(graph, set, static_cast<std::size_t>(held - set.held.begin()), sigma, category_floor);
+  SettleHeld(graph, set, static_cast<std::size_t>(held - set.held.begin()), params);
 }
 
 }  // namespace anchordb::engine::grounding

@@ -37,6 +37,8 @@ bool IsPoorMatch(const FurnitureGraph& graph, const GraphState& state, const Des
 
 // Applies the held category update of held step `held_index` in every hypothesis and removes it from set.held.
 void SettleHeld(const FurnitureGraph& graph, HypothesisSet& set, std::size_t held_index, double sigma, double category_floor);
+// The same under params.model (the joint model's category update for kJoint).
+void SettleHeld(const FurnitureGraph& graph, HypothesisSet& set, std::size_t held_index, const GroundingParams& params);
 
 // Settles every held step that now has a single alternative within params.ambiguity_margin. Returns the steps
 // settled (0-based), oldest first.
@@ -48,5 +50,8 @@ std::vector<int> SettleClearSteps(const FurnitureGraph& graph, HypothesisSet& se
 // unchanged on error.
 void KeepPair(const FurnitureGraph& graph, HypothesisSet& set, int step, int located, int reference, double sigma,
               double category_floor);
+// The same under params.model.
+void KeepPair(const FurnitureGraph& graph, HypothesisSet& set, int step, int located, int reference,
+              const GroundingParams& params);
 
 }  // namespace anchordb::engine::grounding

@@ -42,6 +42,23 @@ Distribution4 RelationFromOffset(const Eigen::Vector2d& d_V, double sharpness) {
   return p;
 }
 
+Distribution4 LineOfSightRelation(const Viewpoint& viewpoint, const Eigen::Vector2d& located_M,
+                                  const Eigen::Vector2d& reference_M, double sharpness) {
+  const Eigen::Vector2d sight = reference_M - viewpoint.position_m;
+  Viewpoint along = viewpoint;
+  if (sight.norm() > 1e-9) along.heading_rad = std::atan2(sight.y(), sight.x());
+  return RelationFromOffset(along.ToViewer(located_M - reference_M), sharpness);
+}
+
+void SetLineOfSight(FurnitureGraph& graph, const Viewpoint& viewpoint, double sharpness) {
+  for (Edge& e : graph.edges) {
+    const Eigen::Vector2d& a = graph.vertices[static_cast<std::size_t>(e.a)].position_m;
+    const Eigen::Vector2d& b = graph.vertices[static_cast<std::size_t>(e.b)].position_m;
+    e.line_of_sight[0] = LineOfSightRelation(viewpoint, a, b, sharpness);
+    e.line_of_sight[1] = LineOfSightRelation(viewpoint, b, a, sharpness);
+  }
+}
+
 namespace {
 
 Eigen::Vector2d HalfBox(const FurnitureInput& f) {
@@ -87,6 +104,8 @@ FurnitureGraph BuildFurnitureGraph(const Viewpoint& viewpoint, const std::vector
       const Eigen::Vector2d d_V = viewpoint.ToViewer(furniture[i].position_m - furniture[j].position_m);
       e.visual[0] = RelationFromOffset(d_V, params.relation_sharpness);
       e.visual[1] = RelationFromOffset(-d_V, params.relation_sharpness);
+      e.line_of_sight[0] = LineOfSightRelation(viewpoint, furniture[i].position_m, furniture[j].position_m, params.relation_sharpness);
+      e.line_of_sight[1] = LineOfSightRelation(viewpoint, furniture[j].position_m, furniture[i].position_m, params.relation_sharpness);
       g.edges.push_back(e);
       for (const Distribution4& p : e.visual) g.initial.relation.insert(g.initial.relation.end(), p.begin(), p.end());
     }

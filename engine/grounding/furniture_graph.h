@@ -53,6 +53,10 @@ struct Edge {
   int b = 0;
   double gap_m = 0.0;
   std::array<Distribution4, 2> visual{};  // p(r) from the geometry, per direction (indexed by Relation)
+  // p(r) in the relative frame taken along the line of sight from the viewer to the reference piece (not along the
+  // viewing direction), per direction: what the joint model (engine/grounding/joint_model.h) mixes into the fit of
+  // a relative reading. Derived from the vertices and the viewpoint (SetLineOfSight), never stored.
+  std::array<Distribution4, 2> line_of_sight{};
 };
 
 // The distributions that descriptions change: one copy per hypothesis.
@@ -86,6 +90,15 @@ struct FurnitureGraph {
 
 // p(r) of a located object at offset d_V from its reference, in the viewer frame; uniform when d_V is zero.
 Distribution4 RelationFromOffset(const Eigen::Vector2d& d_V, double sharpness);
+
+// p(r) of a located piece at p_M relative to a reference at q_M, in the frame whose forward axis is the line of sight
+// from the viewpoint's position to q_M (the viewing direction when q_M is at the viewer).
+Distribution4 LineOfSightRelation(const Viewpoint& viewpoint, const Eigen::Vector2d& located_M,
+                                  const Eigen::Vector2d& reference_M, double sharpness);
+
+// Fills every edge's line_of_sight from the vertices' positions (BuildFurnitureGraph does; a graph read back from
+// its stored form needs it again).
+void SetLineOfSight(FurnitureGraph& graph, const Viewpoint& viewpoint, double sharpness);
 
 // Shortest distance between the two pieces' footprints (axis-aligned boxes around the rotated extents) [m].
 double FootprintGap(const FurnitureInput& a, const FurnitureInput& b);

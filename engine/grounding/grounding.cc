@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "engine/grounding/ambiguity.h"
+#include "engine/grounding/joint_model.h"
 #include "schema/error.h"
 
 namespace anchordb::engine::grounding {
@@ -104,8 +105,10 @@ Distribution4 OrientationTarget(const FurnitureGraph& graph, int directed, Relat
   return t;
 }
 
-void ApplyCategoryUpdate(const FurnitureGraph& graph, GraphState& state, const Description& d, const Match& match,
-                         double sigma, double category_floor, const std::vector<Match>& earlier) {
+const char* ModelId(Model m) { return m == Model::kJoint ? "joint" : "sequential"; }
+
+bool CategoryUpdateAllowed(const FurnitureGraph& graph, const GraphState& state, const Description& d,
+                           const Match& match, double category_floor, const std::vector<Match>& earlier) {
   const int k = graph.category_count;
   const int vertices[2] = {graph.Located(match.directed_edge), graph.Reference(match.directed_edge)};
   const int described[2] = {d.located, d.reference};
@@ -118,14 +121,32 @@ void ApplyCategoryUpdate(const FurnitureGraph& graph, GraphState& state, const D
   // A poor match (a described category below the floor on its piece, not said of it before in this sequence) moves
   // no category at all: the description does not fit, so neither of its pieces is confirmed by it.
   for (int i = 0; i < 2; ++i) {
-    if (state.category[Idx(vertices[i] * k + described[i])] < category_floor && !named_before(vertices[i], described[i])) return;
+    if (state.category[Idx(vertices[i] * k + described[i])] < category_floor && !named_before(vertices[i], described[i])) return false;
   }
+  return true;
+}
+
+void ApplyCategoryUpdate(const FurnitureGraph& graph, GraphState& state, const Description& d, const Match& match,
+                         double sigma, double category_floor, const std::vector<Match>& earlier) {
+  if (!CategoryUpdateAllowed(graph, state, d, match, category_floor, earlier)) return;
+  const int k = graph.category_count;
+  const int vertices[2] = {graph.Located(match.directed_edge), graph.Reference(match.directed_edge)};
+  const int described[2] = {d.located, d.reference};
   std::vector<double> target(Idx(k), 0.0);
   for (int i = 0; i < 2; ++i) {
     double* row = &state.category[Idx(vertices[i] * k)];
     target[Idx(described[i])] = 1.0;
     DampedUpdate(row, target.data(), k, sigma);
     target[Idx(described[i])] = 0.0;
+  }
+}
+
+void ApplyCategoryUpdate(const FurnitureGraph& graph, GraphState& state, const Description& d, const Match& match,
+                         const GroundingParams& params, const std::vector<Match>& earlier) {
+  if (params.model == Model::kJoint) {
+    JointCategoryUpdate(graph, state, d, match, params.joint.naming_noise, params.category_floor, earlier);
+  } else {
+    ApplyCategoryUpdate(graph, state, d, match, params.sigma, params.category_floor, earlier);
   }
 }
 
@@ -171,12 +192,24 @@ HypothesisSet Ground(const FurnitureGraph& graph, const Knowledge& knowledge, co
   candidates.reserve(current.ranked.size() * Idx(directed_count) * kInterpretationCount *
                      (current.step == 0 ? params.schemes.size() : 1));
   std::uint64_t order = 0;
+  const bool joint = params.model == Model::kJoint;
+  JointDescriptionTerms terms;
+  std::vector<InterpretationScore> joint_scores;
+  if (joint) terms = JointTerms(graph, knowledge, d, params.joint);
   for (std::size_t p = 0; p < current.ranked.size(); ++p) {
     const Hypothesis& parent = current.ranked[p];
     for (const Scheme s : params.schemes) {
       if (parent.scheme && *parent.scheme != s) continue;
+      // The joint model has one scheme: the first gives its frame prior's mean; the speaker's posterior adapts.
+      if (joint && s != params.schemes.front()) continue;
+      if (joint) JointScores(graph, knowledge, params, s, terms, d, parent, joint_scores);
       for (int e = 0; e < directed_count; ++e) {
-        const auto scores = ScoreInterpretations(graph, parent.state, knowledge, s, d, e);
+        std::array<InterpretationScore, kInterpretationCount> scores;
+        if (joint) {
+          std::copy_n(joint_scores.begin() + static_cast<std::ptrdiff_t>(e * kInterpretationCount), kInterpretationCount, scores.begin());
+        } else {
+          scores = ScoreInterpretations(graph, parent.state, knowledge, s, d, e);
+        }
         for (int i = 0; i < kInterpretationCount; ++i) {
           Candidate c;
           c.step = scores[Idx(i)].score;
@@ -243,8 +276,9 @@ HypothesisSet Ground(const FurnitureGraph& graph, const Knowledge& knowledge, co
   for (std::size_t rank = 0; rank < keep; ++rank) {
     Hypothesis& h = next.ranked[rank];
     const Hypothesis& parent = current.ranked[parents[rank]];
-    h.state = ApplyMatch(graph, parent.state, knowledge, d, h.matches.back(), params.sigma, params.category_floor, !ambiguous,
-                         parent.matches);
+    h.state = joint ? JointApplyMatch(graph, parent.state, knowledge, d, h.matches.back(), params, !ambiguous, parent.matches)
+                    : ApplyMatch(graph, parent.state, knowledge, d, h.matches.back(), params.sigma, params.category_floor,
+                                 !ambiguous, parent.matches);
   }
   if (params.ambiguity_margin > 0.0) SettleClearSteps(graph, next, params);
   return next;

@@ -63,7 +63,7 @@ struct Match {
   int interpretation = 0;                 // see kInterpretationCount
   Relation relative = Relation::kLeftOf;  // r'
   Scheme scheme = Scheme::kStatistical;
-  double score = 0.0;                     // S of this step
+  double score = 0.0;                     // S of this step (kSequential), log P(d_t | d_<t) in nats (kJoint)
   int located_category = -1;              // the categories the description named (-1: not recorded)
   int reference_category = -1;
 };
@@ -76,6 +76,10 @@ struct Match {
 GraphState ApplyMatch(const FurnitureGraph& graph, const GraphState& state, const Knowledge& knowledge,
                       const Description& d, const Match& match, double sigma, double category_floor = 0.0,
                       bool categories = true, const std::vector<Match>& earlier = {});
+// Whether a match may move categories at all: false for a poor match (a described category below category_floor
+// on its piece that no match in `earlier` named that piece with).
+bool CategoryUpdateAllowed(const FurnitureGraph& graph, const GraphState& state, const Description& d,
+                           const Match& match, double category_floor, const std::vector<Match>& earlier);
 // The category half of eq. 5.4 alone (what ApplyMatch holds back for an ambiguous step), in place.
 void ApplyCategoryUpdate(const FurnitureGraph& graph, GraphState& state, const Description& d, const Match& match,
                          double sigma, double category_floor, const std::vector<Match>& earlier);
@@ -84,7 +88,7 @@ struct Hypothesis {
   std::int64_t id = 0;                  // G0 = 0, then 1, 2, ... across steps (figure 5.8)
   std::int64_t parent_id = -1;          // the predecessor at the previous step; -1 for G0
   std::optional<Scheme> scheme;         // none for G0
-  double score = 0.0;                   // accumulated S over the sequence
+  double score = 0.0;                   // accumulated S over the sequence (kSequential), log-joint in nats (kJoint)
   GraphState state;
   std::vector<Match> matches;           // the sequence of matches, one per description, oldest first
   std::vector<std::int64_t> lineage;    // lineage[t]: id of the ancestor created by description t (last = id)
@@ -105,18 +109,44 @@ struct HypothesisSet {
   std::vector<HeldStep> held;      // unsettled ambiguous steps, oldest first
 };
 
+// How a hypothesis is scored (issue 17).
+//  kSequential - the thesis: S of eq. 5.2 on the state left by the previous descriptions' damped updates (eq. 5.4),
+//                summed over the sequence; adaptation by one assessment scheme per sequence (5.3.4).
+//  kJoint      - the log of the joint probability of the hypothesis' descriptions, summed step by step as
+//                log P(d_t | d_1..d_t-1) with the pieces' categories, the references' orientations and the speaker's
+//                frame preference as latent quantities (engine/grounding/joint_model.h). Units: nats.
+enum class Model : std::uint8_t { kSequential = 0, kJoint = 1 };
+const char* ModelId(Model m);  // "sequential", "joint"
+
+// The joint model's constants (engine/grounding/joint_model.h says how each enters).
+struct JointParams {
+  double edge_fit_slack = 0.5;         // share of an edge's relation fit that is uniform (borderline angles), [0, 1]
+  double line_of_sight_weight = 0.5;   // share of the line-of-sight frame in a relative reading's fit, [0, 1]
+  double proximity_scale_m = 0.2;      // P(reference | located) ∝ exp(-gap / scale) over the located piece's edges [m]
+  double frame_prior_strength = 5.0;   // pseudo-descriptions of the Beta prior over the speaker's frame preference
+  double naming_noise = 0.05;          // P(a speaker names a piece by another category than its own), (0, 1)
+};
+
 struct GroundingParams {
+  Model model = Model::kSequential;
+  JointParams joint;
   int n_best = 100;
   double sigma = 3.0;
   // Schemes tried from G0: {S, R, I} = adaptation; {S} = statistics only; {U} = uniform frame prior.
   std::vector<Scheme> schemes = {Scheme::kStatistical, Scheme::kRelative, Scheme::kIntrinsic};
   // Ambiguity (engine/grounding/ambiguity.h). A step is ambiguous when a hypothesis matching the description to
   // another pair of pieces has an accumulated score within ambiguity_margin of the best one; its category update
-  // is then held back. 0 = off (the thesis). Units: those of S (eq. 5.2), accumulated.
+  // is then held back. 0 = off (the thesis). Units: those of the model's score: S (eq. 5.2) accumulated for
+  // kSequential, nats for kJoint.
   double ambiguity_margin = 0.0;
   // A vertex's p(f) moves only towards a category it already holds with p >= category_floor (0 = the thesis).
   double category_floor = 0.0;
 };
+
+// The category half of a match's update under `params.model` (ApplyCategoryUpdate for kSequential, the Bayes
+// update of joint_model.h for kJoint), with the same poor-match rule; in place.
+void ApplyCategoryUpdate(const FurnitureGraph& graph, GraphState& state, const Description& d, const Match& match,
+                         const GroundingParams& params, const std::vector<Match>& earlier);
 
 // The set holding only G0, the graph as seen.
 HypothesisSet InitialHypotheses(const FurnitureGraph& graph);

@@ -32,7 +32,8 @@ g::Viewpoint ViewpointFromDocument(const std::string& text) {
 }
 
 std::string ParamsDocument(const FurnitureGraphParams& p) {
-  return Json{{"n_best", p.n_best},
+  return Json{{"model", g::ModelId(p.model)},
+              {"n_best", p.n_best},
               {"sigma", p.sigma},
               {"edge_max_gap_m", p.edge_max_gap_m},
               {"relation_sharpness", p.relation_sharpness},
@@ -48,6 +49,8 @@ std::string ParamsDocument(const FurnitureGraphParams& p) {
 FurnitureGraphParams ParamsFromDocument(const std::string& text) {
   const Json j = Json::parse(text);
   FurnitureGraphParams p;
+  // Graphs stored before the joint model existed were scored sequentially.
+  p.model = j.value("model", std::string("sequential")) == "joint" ? g::Model::kJoint : g::Model::kSequential;
   p.n_best = j.at("n_best").get<int>();
   p.sigma = j.at("sigma").get<double>();
   p.edge_max_gap_m = j.at("edge_max_gap_m").get<double>();

@@ -37,6 +37,7 @@ std::vector<double> ResolveCategories(const std::vector<CategoryWeight>& weights
 
 FurnitureGraphParams ResolveParams(const GraphParamsRequest& r, const FurnitureSettings& s) {
   FurnitureGraphParams p;
+  p.model = r.model.value_or(s.model == "joint" ? g::Model::kJoint : g::Model::kSequential);
   const std::int64_t n_best = r.n_best.value_or(s.n_best);
   if (n_best < 1 || n_best > s.max_n_best) {
     throw Error(ErrorCode::kUnprocessable, "n_best must be in [1, " + std::to_string(s.max_n_best) + "]", "params.n_best");
@@ -50,7 +51,7 @@ FurnitureGraphParams ResolveParams(const GraphParamsRequest& r, const FurnitureS
   CheckRange(p.relation_sharpness, 0.0, 100.0, "relation_sharpness");
   p.adaptation = r.adaptation.value_or(true);
   p.frame_prior = r.frame_prior.value_or(FramePrior::kStatistical);
-  p.ambiguity_margin = r.ambiguity_margin.value_or(s.ambiguity_margin);
+  p.ambiguity_margin = r.ambiguity_margin.value_or(p.model == g::Model::kJoint ? s.ambiguity_margin_joint : s.ambiguity_margin);
   CheckRange(p.ambiguity_margin, 0.0, 10.0, "ambiguity_margin");
   p.category_floor = r.category_floor.value_or(s.category_floor);
   CheckRange(p.category_floor, 0.0, 1.0, "category_floor");
@@ -61,6 +62,7 @@ FurnitureGraphParams ResolveParams(const GraphParamsRequest& r, const FurnitureS
 
 g::GroundingParams GroundingParamsOf(const FurnitureGraphParams& params) {
   g::GroundingParams p;
+  p.model = params.model;
   p.n_best = params.n_best;
   p.sigma = params.sigma;
   p.schemes = g::SchemesToTry(params.adaptation, params.frame_prior == FramePrior::kUniform);

@@ -144,6 +144,7 @@ std::shared_ptr<FurnitureService::Graph> FurnitureService::Acquire(const std::st
   graph->params = ParamsFromDocument(record->params_json);
   graph->viewpoint = ViewpointFromDocument(record->viewpoint_json);
   graph->graph = GraphFromDocument(record->graph_json);
+  g::SetLineOfSight(graph->graph, graph->viewpoint, graph->params.relation_sharpness);
   graph->set = storage::DecodeHypotheses(graph->graph, record->hypotheses);
   record->hypotheses.clear();
   graph->record = std::move(*record);
@@ -279,7 +280,7 @@ GraphView FurnitureService::Resolve(const std::string& map, std::int64_t id, con
   const std::int64_t seq = request.seq.value_or(graph->set.held.front().step + 1);
   if (seq < 1 || seq > graph->set.step) throw Error(ErrorCode::kUnprocessable, "seq must name a grounded description", "seq");
   g::HypothesisSet next = graph->set;
-  g::KeepPair(graph->graph, next, static_cast<int>(seq - 1), a, b, graph->params.sigma, graph->params.category_floor);
+  g::KeepPair(graph->graph, next, static_cast<int>(seq - 1), a, b, GroundingParamsOf(graph->params));
   const std::string blob = storage::EncodeHypotheses(graph->graph, next);
   const std::int64_t now = clock_.NowNs();
   store_.Write([&](storage::Connection& c) {

@@ -20,6 +20,8 @@ enum class OrientationPrior { kRoom, kUniform };
 
 // The parameters a graph was created with (defaults: FurnitureSettings).
 struct FurnitureGraphParams {
+  // How hypotheses are scored (engine/grounding/grounding.h Model); graphs stored before it existed: kSequential.
+  engine::grounding::Model model = engine::grounding::Model::kSequential;
   int n_best = 100;                 // hypotheses kept per description
   double sigma = 3.0;               // damping of eq. 5.4
   double edge_max_gap_m = 1.5;      // pieces closer than this share an edge [m]
@@ -28,6 +30,7 @@ struct FurnitureGraphParams {
   FramePrior frame_prior = FramePrior::kStatistical;
   // Ambiguity (engine/grounding/ambiguity.h): readings of other pieces within this much accumulated score of the
   // best make a description ambiguous and hold its category update back; 0 = off (graphs stored before issue 17).
+  // Units of the model's score: S of eq. 5.2 (sequential), nats (joint).
   double ambiguity_margin = 0.0;
   // A piece's p(f) moves only towards a category it holds with at least this probability; 0 = always.
   double category_floor = 0.0;
@@ -38,13 +41,14 @@ struct FurnitureGraphParams {
 // Requested parameters; an unset one takes the service's setting. Out of range: Error(kUnprocessable) naming
 // "params.<name>".
 struct GraphParamsRequest {
+  std::optional<engine::grounding::Model> model;  // default: the grounding_model setting
   std::optional<std::int64_t> n_best;        // [1, max_n_best]
   std::optional<double> sigma;               // [1, 1000]
   std::optional<double> edge_max_gap_m;      // [0, 100] m
   std::optional<double> relation_sharpness;  // [0, 100]
   std::optional<bool> adaptation;
   std::optional<FramePrior> frame_prior;
-  std::optional<double> ambiguity_margin;  // [0, 10]
+  std::optional<double> ambiguity_margin;  // [0, 10]; default by model: the setting for S or for nats
   std::optional<double> category_floor;    // [0, 1]
   std::optional<OrientationPrior> orientation_prior;  // default kRoom
   std::optional<std::string> occupancy_layer;         // an occupancy layer of the map; unknown: kNotFound

@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <cstdio>
 
+#include "engine/grounding/joint_model.h"
 #include "engine/grounding/orientation_prior.h"
 
 namespace anchordb::eval::adversarial {
@@ -64,6 +66,7 @@ struct Room {
   struct Said {
     int located = 0, reference = 0;
     Relation word = Relation::kLeftOf;
+    bool intrinsic = false;
   };
   std::vector<Said> descriptions;
   int misclassified = 0;
@@ -129,7 +132,7 @@ Room MakeRoom(std::uint64_t seed, Speaker speaker, const Knowledge& k) {
     const Piece& r = room.pieces[static_cast<std::size_t>(ref)];
     const Nature nature = k.categories[r.category].nature;
     const bool intrinsic = nature != Nature::kNone && rng.Uniform(0.0, 1.0) < p_intrinsic;
-    room.descriptions.push_back({loc, ref, intrinsic ? IntrinsicWord(l, r, nature) : LineOfSightWord(l, r)});
+    room.descriptions.push_back({loc, ref, intrinsic ? IntrinsicWord(l, r, nature) : LineOfSightWord(l, r), intrinsic});
   }
   room.misclassified = room.descriptions.empty() ? 0 : room.descriptions[static_cast<std::size_t>(rng.Below(static_cast<int>(room.descriptions.size())))].located;
   return room;
@@ -181,9 +184,29 @@ engine::OccupancyGrid Occupancy(const Room& room) {
 }  // namespace
 
 const char* SpeakerName(Speaker s) { return s == Speaker::kRelative ? "relative" : s == Speaker::kMixed ? "mixed" : "intrinsic"; }
-const char* ModelName(Model m) { return m == Model::kThesis ? "thesis model" : "issue 17"; }
+const char* ModelName(Model m) { return m == Model::kThesis ? "thesis model" : m == Model::kIssue17 ? "issue 17" : "joint"; }
 
-RoomResult RunRoom(std::uint64_t seed, Speaker speaker, int quality, Model model) {
+GroundingParams JointOptions() {
+  GroundingParams p;
+  p.model = engine::grounding::Model::kJoint;
+  p.ambiguity_margin = 0.3;
+  p.category_floor = 0.05;
+  return p;
+}
+
+namespace {
+
+GroundingParams ParamsOf(Model model) {
+  if (model == Model::kJoint) return JointOptions();
+  GroundingParams p;
+  if (model == Model::kIssue17) {
+    p.ambiguity_margin = 0.02;
+    p.category_floor = 0.05;
+  }
+  return p;
+}
+
+RoomResult Run(std::uint64_t seed, Speaker speaker, int quality, const GroundingParams* given, Model model, bool trace = false) {
   const Knowledge& k = DefaultKnowledge();
   const int kc = k.categories.size();
   const Room room = MakeRoom(seed, speaker, k);
@@ -197,12 +220,10 @@ RoomResult RunRoom(std::uint64_t seed, Speaker speaker, int quality, Model model
   }
   const Viewpoint view{kViewer, 0.0};
   FurnitureGraph graph = BuildFurnitureGraph(view, furniture, kc, GraphParams{});
-  GroundingParams params;
-  if (model == Model::kIssue17) {
+  const GroundingParams params = given ? *given : ParamsOf(model);
+  if (given || model != Model::kThesis) {
     const engine::OccupancyGrid occupancy = Occupancy(room);
     graph.initial.orientation = RoomOrientationPrior(view, furniture, k.categories, RoomLayout{&occupancy, {}});
-    params.ambiguity_margin = 0.02;
-    params.category_floor = 0.05;
   }
   HypothesisSet set = InitialHypotheses(graph);
   std::vector<Room::Said> grounded;
@@ -225,13 +246,54 @@ RoomResult RunRoom(std::uint64_t seed, Speaker speaker, int quality, Model model
                             (LineOfSightWord(pa, pb) == s.word ||
                              (k.categories[pb.category].nature != Nature::kNone && IntrinsicWord(pa, pb, k.categories[pb.category].nature) == s.word));
     r.right += same || equivalent;
+    if (trace) {
+      const Description d{room.pieces[static_cast<std::size_t>(s.located)].category, s.word, room.pieces[static_cast<std::size_t>(s.reference)].category};
+      const JointDescriptionTerms terms = JointTerms(graph, k, d, params.joint);
+      const auto show = [&](int e) {
+        const std::size_t i = static_cast<std::size_t>(e);
+        std::fprintf(stderr, " [prox %.2f rel %.2f int %.2f %.2f %.2f %.2f]", terms.log_proximity[i], terms.relative_fit[i],
+                     terms.intrinsic_fit[i][0], terms.intrinsic_fit[i][1], terms.intrinsic_fit[i][2], terms.intrinsic_fit[i][3]);
+      };
+      show(graph.FindDirected(s.located, s.reference));
+      show(best.matches[t].directed_edge);
+      std::fprintf(stderr, "  %2zu: %s v%d %s v%d (frame %s) -> v%d v%d interp %d step %.2f%s%s\n", t, k.categories[room.pieces[static_cast<std::size_t>(s.located)].category].id.c_str(),
+                   s.located, RelationId(s.word), s.reference, s.intrinsic ? "I" : "R", a, b, best.matches[t].interpretation,
+                   best.matches[t].score, same || equivalent ? "" : "  WRONG",
+                   std::any_of(set.held.begin(), set.held.end(), [&](const HeldStep& h) { return h.step == static_cast<int>(t); }) ? " held" : "");
+    }
   }
   r.graph_right = true;
   for (std::size_t v = 0; v < room.pieces.size(); ++v) {
     const double* row = &best.state.category[v * static_cast<std::size_t>(kc)];
-    r.graph_right &= static_cast<int>(std::max_element(row, row + kc) - row) == room.pieces[v].category;
+    const int top = static_cast<int>(std::max_element(row, row + kc) - row);
+    r.graph_right &= top == room.pieces[v].category;
+    if (trace) {
+      const double* seen = &graph.initial.category[v * static_cast<std::size_t>(kc)];
+      std::fprintf(stderr, "  v%zu %s at (%.2f, %.2f) yaw %.0f: seen p(true) %.2f, end %s %.2f%s\n", v, k.categories[room.pieces[v].category].id.c_str(),
+                   room.pieces[v].position_m.x(), room.pieces[v].position_m.y(), room.pieces[v].yaw_rad * 180 / M_PI,
+                   seen[room.pieces[v].category], k.categories[top].id.c_str(), row[top], top == room.pieces[v].category ? "" : "  WRONG");
+    }
   }
   return r;
+}
+
+}  // namespace
+
+RoomResult RunRoom(std::uint64_t seed, Speaker speaker, int quality, Model model) {
+  return Run(seed, speaker, quality, nullptr, model);
+}
+
+RoomResult RunRoom(std::uint64_t seed, Speaker speaker, int quality, const GroundingParams& params) {
+  return Run(seed, speaker, quality, &params, Model::kJoint);
+}
+
+void TraceRoom(std::uint64_t seed, Speaker speaker, int quality, const GroundingParams& params) {
+  Run(seed, speaker, quality, &params, Model::kJoint, true);
+}
+
+double Table::DescriptionRate(Model m) const {
+  const Cell a = Over(m, 0), b = Over(m, 1);
+  return a.descriptions + b.descriptions ? double(a.right + b.right) / double(a.descriptions + b.descriptions) : 0.0;
 }
 
 Cell Table::Over(Model m, int quality) const {
@@ -246,14 +308,17 @@ Cell Table::Over(Model m, int quality) const {
   return all;
 }
 
-Table Evaluate(int rooms, std::uint64_t first_seed) {
+Table Evaluate(int rooms, std::uint64_t first_seed, const std::vector<Model>& models, const GroundingParams* joint) {
   Table table;
-  for (int m = 0; m < 2; ++m) {
+  for (const Model model : models) {
+    const int m = static_cast<int>(model);
     for (int q = 0; q < 2; ++q) {
       for (int s = 0; s < 3; ++s) {
         Cell& cell = table.cells[m][q][s];
         for (int i = 0; i < rooms; ++i) {
-          const RoomResult r = RunRoom(first_seed + static_cast<std::uint64_t>(i), static_cast<Speaker>(s), q, static_cast<Model>(m));
+          const std::uint64_t seed = first_seed + static_cast<std::uint64_t>(i);
+          const RoomResult r = model == Model::kJoint && joint ? RunRoom(seed, static_cast<Speaker>(s), q, *joint)
+                                                               : RunRoom(seed, static_cast<Speaker>(s), q, model);
           ++cell.rooms;
           cell.graphs_right += r.graph_right;
           cell.descriptions += r.descriptions;

@@ -18,10 +18,15 @@ namespace anchordb::eval::adversarial {
 enum class Speaker { kRelative = 0, kMixed = 1, kIntrinsic = 2 };
 const char* SpeakerName(Speaker s);
 
-// The model configuration compared: the thesis' (uniform p(o), no ambiguity handling, no category floor) and
-// issue 17's (room orientation prior, ambiguity held with margin 0.02, category floor 0.05).
-enum class Model { kThesis = 0, kIssue17 = 1 };
+// The model configuration compared: the thesis' (uniform p(o), no ambiguity handling, no category floor),
+// issue 17's sequential model (room orientation prior, ambiguity held with margin 0.02, category floor 0.05) and
+// the joint model (engine/grounding/joint_model.h) with the same prior and floor, ambiguity margin JointOptions().
+enum class Model { kThesis = 0, kIssue17 = 1, kJoint = 2 };
+inline constexpr int kModelCount = 3;
 const char* ModelName(Model m);
+
+// The grounding parameters of the joint model as the service uses them (GroundingParams::model = kJoint).
+engine::grounding::GroundingParams JointOptions();
 
 struct RoomResult {
   int descriptions = 0, right = 0;
@@ -31,6 +36,11 @@ struct RoomResult {
 // One room and speaker (seeded), grounded by `model` at quality A (q = 0) or B (q = 1, one described piece
 // misclassified).
 RoomResult RunRoom(std::uint64_t seed, Speaker speaker, int quality, Model model);
+// The same with explicit grounding parameters (the room prior is always used).
+RoomResult RunRoom(std::uint64_t seed, Speaker speaker, int quality, const engine::grounding::GroundingParams& params);
+
+// Prints one room's descriptions, their matches and the pieces' categories at the end to stderr (diagnosis).
+void TraceRoom(std::uint64_t seed, Speaker speaker, int quality, const engine::grounding::GroundingParams& params);
 
 struct Cell {
   int rooms = 0, graphs_right = 0;
@@ -42,9 +52,13 @@ struct Cell {
 
 // cells[model][quality][speaker] over `rooms` rooms per speaker type (seeds first_seed...).
 struct Table {
-  Cell cells[2][2][3];
+  Cell cells[kModelCount][2][3];
   Cell Over(Model m, int quality) const;  // all speakers
+  double DescriptionRate(Model m) const;  // both qualities, all speakers
 };
-Table Evaluate(int rooms, std::uint64_t first_seed);
+// Only the models in `models` are run (the other cells stay empty); `joint` replaces JointOptions() when given.
+Table Evaluate(int rooms, std::uint64_t first_seed,
+               const std::vector<Model>& models = {Model::kThesis, Model::kIssue17, Model::kJoint},
+               const engine::grounding::GroundingParams* joint = nullptr);
 
 }  // namespace anchordb::eval::adversarial

@@ -1,8 +1,13 @@
-// Prints the adversarial grounding evaluation of issue 17 as the issue's table, the thesis model beside issue 17's.
-//   anchordb_eval_grounding_adversarial [--rooms N] [--seed S]
+// Prints the adversarial grounding evaluation of issue 17 as the issue's table: the thesis model, issue 17's
+// sequential model and the joint model in the same run, per speaker type and quality, with the worst room.
+//   anchordb_eval_grounding_adversarial [--rooms N] [--seed S] [--models thesis,issue17,joint]
+//       [--slack X] [--sight X] [--proximity_m X] [--strength X] [--noise X] [--margin X] [--floor X] [--failures 1]
+// --failures 1 traces every room whose graph the joint model ends with a piece wrong (stderr). The other options change the joint model's parameters (JointOptions() otherwise).
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <string>
 
 #include "tests/eval/grounding_adversarial.h"
 
@@ -11,31 +16,77 @@ using namespace anchordb::eval::adversarial;
 int main(int argc, char** argv) {
   int rooms = 30;
   std::uint64_t seed = 1;
+  std::vector<Model> models = {Model::kThesis, Model::kIssue17, Model::kJoint};
+  anchordb::engine::grounding::GroundingParams joint = JointOptions();
+  bool failures = false;
   for (int i = 1; i + 1 < argc; i += 2) {
+    const double x = std::atof(argv[i + 1]);
     if (std::strcmp(argv[i], "--rooms") == 0) rooms = std::atoi(argv[i + 1]);
     else if (std::strcmp(argv[i], "--seed") == 0) seed = std::strtoull(argv[i + 1], nullptr, 10);
-    else return std::fprintf(stderr, "unknown option %s\n", argv[i]), 2;
+    else if (std::strcmp(argv[i], "--slack") == 0) joint.joint.edge_fit_slack = x;
+    else if (std::strcmp(argv[i], "--sight") == 0) joint.joint.line_of_sight_weight = x;
+    else if (std::strcmp(argv[i], "--proximity_m") == 0) joint.joint.proximity_scale_m = x;
+    else if (std::strcmp(argv[i], "--strength") == 0) joint.joint.frame_prior_strength = x;
+    else if (std::strcmp(argv[i], "--noise") == 0) joint.joint.naming_noise = x;
+    else if (std::strcmp(argv[i], "--margin") == 0) joint.ambiguity_margin = x;
+    else if (std::strcmp(argv[i], "--floor") == 0) joint.category_floor = x;
+    else if (std::strcmp(argv[i], "--failures") == 0) failures = std::atoi(argv[i + 1]) != 0;
+    else if (std::strcmp(argv[i], "--models") == 0) {
+      models.clear();
+      const std::string list = argv[i + 1];
+      if (list.find("thesis") != std::string::npos) models.push_back(Model::kThesis);
+      if (list.find("issue17") != std::string::npos) models.push_back(Model::kIssue17);
+      if (list.find("joint") != std::string::npos) models.push_back(Model::kJoint);
+    } else {
+      return std::fprintf(stderr, "unknown option %s\n", argv[i]), 2;
+    }
   }
-  const Table t = Evaluate(rooms, seed);
+  if (failures) {  // every joint room whose graph ends wrong, traced
+    for (int q = 0; q < 2; ++q) {
+      for (int s = 0; s < 3; ++s) {
+        for (int i = 0; i < rooms; ++i) {
+          if (RunRoom(seed + static_cast<std::uint64_t>(i), static_cast<Speaker>(s), q, joint).graph_right) continue;
+          std::fprintf(stderr, "room seed %llu, %s speaker, quality %c\n", static_cast<unsigned long long>(seed + i),
+                       SpeakerName(static_cast<Speaker>(s)), "AB"[q]);
+          TraceRoom(seed + static_cast<std::uint64_t>(i), static_cast<Speaker>(s), q, joint);
+        }
+      }
+    }
+    return 0;
+  }
+  const Table t = Evaluate(rooms, seed, models, &joint);
   std::printf("Adversarial grounding evaluation (issue 17): %d rooms per speaker type, seeds %llu..%llu\n", rooms,
               static_cast<unsigned long long>(seed), static_cast<unsigned long long>(seed + rooms - 1));
+  std::printf("joint model: slack %.2f, line of sight %.2f, proximity %.2f m, frame prior strength %.1f, naming noise %.3f, "
+              "margin %.2f nats, floor %.2f\n", joint.joint.edge_fit_slack, joint.joint.line_of_sight_weight,
+              joint.joint.proximity_scale_m, joint.joint.frame_prior_strength, joint.joint.naming_noise,
+              joint.ambiguity_margin, joint.category_floor);
   std::printf("cells: graphs all right / descriptions right (worst room's share of right descriptions)\n\n");
   std::printf("%-10s | %-14s | %-34s | %-34s\n", "speakers", "model", "quality A", "quality B (one piece misclassified)");
   for (int s = 0; s < 3; ++s) {
-    for (int m = 0; m < 2; ++m) {
-      std::printf("%-10s | %-14s |", SpeakerName(static_cast<Speaker>(s)), ModelName(static_cast<Model>(m)));
+    for (const Model m : models) {
+      std::printf("%-10s | %-14s |", SpeakerName(static_cast<Speaker>(s)), ModelName(m));
       for (int q = 0; q < 2; ++q) {
-        const Cell& c = t.cells[m][q][s];
+        const Cell& c = t.cells[static_cast<int>(m)][q][s];
         std::printf(" %4.2f / %4.2f (worst %4.2f)              |", c.GraphRate(), c.DescriptionRate(), c.worst_room_rate);
       }
       std::printf("\n");
     }
   }
-  for (int m = 0; m < 2; ++m) {
-    const Cell a = t.Over(static_cast<Model>(m), 0), b = t.Over(static_cast<Model>(m), 1);
-    std::printf("all speakers, %-12s: A %4.2f / %4.3f (worst %4.2f), B %4.2f / %4.3f (worst %4.2f), descriptions overall %5.3f\n",
-                ModelName(static_cast<Model>(m)), a.GraphRate(), a.DescriptionRate(), a.worst_room_rate, b.GraphRate(),
-                b.DescriptionRate(), b.worst_room_rate, double(a.right + b.right) / double(a.descriptions + b.descriptions));
+  for (const Model m : models) {
+    const Cell a = t.Over(m, 0), b = t.Over(m, 1);
+    double worst_graphs[2] = {1, 1}, worst_descriptions = 1;
+    for (int q = 0; q < 2; ++q) {
+      for (int s = 0; s < 3; ++s) {
+        const Cell& c = t.cells[static_cast<int>(m)][q][s];
+        worst_graphs[q] = std::min(worst_graphs[q], c.GraphRate());
+        worst_descriptions = std::min(worst_descriptions, c.DescriptionRate());
+      }
+    }
+    std::printf("all speakers, %-12s: A %4.2f / %4.3f (worst room %4.2f), B %4.2f / %4.3f (worst room %4.2f), descriptions overall %5.3f; "
+                "worst cell: A graphs %4.2f, B graphs %4.2f, descriptions %4.3f\n",
+                ModelName(m), a.GraphRate(), a.DescriptionRate(), a.worst_room_rate, b.GraphRate(), b.DescriptionRate(),
+                b.worst_room_rate, t.DescriptionRate(m), worst_graphs[0], worst_graphs[1], worst_descriptions);
   }
   std::printf("(issue 17 bars: descriptions right >= 0.92 overall, A graphs 1.00, B graphs >= 0.85; thesis 91.9 %%)\n");
   return 0;

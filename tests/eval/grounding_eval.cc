@@ -188,6 +188,8 @@ TrialResult RunTrial(const Participant& p, Quality q, Condition c, const Knowled
   }
   const FurnitureGraph graph = BuildFurnitureGraph(p.view, furniture, k, GraphParams{});
   GroundingParams params;
+  params.model = options.model;
+  params.joint = options.joint;
   params.n_best = options.n_best;
   params.sigma = options.sigma;
   params.ambiguity_margin = options.ambiguity_margin;

@@ -75,6 +75,8 @@ struct TrialResult {
 };
 
 struct EvalOptions {
+  engine::grounding::Model model = engine::grounding::Model::kSequential;  // kJoint: engine/grounding/joint_model.h
+  engine::grounding::JointParams joint;
   int n_best = 100;
   double sigma = 3.0;
   double ambiguity_margin = 0.0;  // issue 17 (0 = the thesis' model)

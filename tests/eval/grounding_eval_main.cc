@@ -1,5 +1,5 @@
 // Prints the grounding evaluation (thesis 5.4.2 with synthetic participants) beside the thesis' figures.
-//   anchordb_eval_grounding [--participants N] [--seed S] [--n N] [--sigma S] [--margin M] [--floor F]
+//   anchordb_eval_grounding [--participants N] [--seed S] [--n N] [--sigma S] [--margin M] [--floor F] [--model joint] [--proximity_m X]
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -19,6 +19,10 @@ int main(int argc, char** argv) {
     else if (std::strcmp(argv[i], "--sigma") == 0) options.sigma = std::atof(argv[i + 1]);
     else if (std::strcmp(argv[i], "--margin") == 0) options.ambiguity_margin = std::atof(argv[i + 1]);
     else if (std::strcmp(argv[i], "--floor") == 0) options.category_floor = std::atof(argv[i + 1]);
+    else if (std::strcmp(argv[i], "--proximity_m") == 0) options.joint.proximity_scale_m = std::atof(argv[i + 1]);
+    else if (std::strcmp(argv[i], "--model") == 0) {
+      options.model = std::strcmp(argv[i + 1], "joint") == 0 ? engine::grounding::Model::kJoint : engine::grounding::Model::kSequential;
+    }
     else {
       std::fprintf(stderr, "unknown option %s\n", argv[i]);
       return 2;

@@ -41,6 +41,32 @@ TEST(GroundingEvalTest, IssueFiveBarsHoldWithAmbiguityHeldAndTheCategoryFloor) {
   EXPECT_GE(2 * a.held_wrong, a.held);
 }
 
+// The joint model (engine/grounding/joint_model.h) with the service's joint defaults: margin in nats.
+const Evaluation& SeededJoint() {
+  static const Evaluation kEvaluation = [] {
+    EvalOptions o;
+    o.model = engine::grounding::Model::kJoint;
+    o.ambiguity_margin = 0.3;
+    o.category_floor = 0.05;
+    return Evaluate(30, 1, o);
+  }();
+  return kEvaluation;
+}
+
+TEST(GroundingEvalTest, IssueFiveBarsHoldWithTheJointModel) {
+  const Tally a = SeededJoint().Over(Quality::kA, Condition::kAdaptation);
+  const Tally b = SeededJoint().Over(Quality::kB, Condition::kAdaptation);
+  RecordProperty("descriptions_correct_A", std::to_string(a.DescriptionRate()));
+  RecordProperty("sequences_correct_A", std::to_string(a.SequenceRate()));
+  RecordProperty("corrected_B", std::to_string(b.CorrectedRate()));
+  EXPECT_GE(a.DescriptionRate(), 0.92);
+  EXPECT_GE(a.SequenceRate(), 0.67);
+  EXPECT_LT(1.0 - a.VertexRate(), 0.03);
+  EXPECT_GE(b.CorrectedRate(), 0.85);
+  EXPECT_LT(1.0 - b.VertexRate(), 0.03);
+  EXPECT_GT(a.held, 0);  // ambiguity is still asked back
+}
+
 TEST(GroundingEvalTest, AdaptationAtQualityAReachesTheThesis) {
   const Tally t = Seeded().Over(Quality::kA, Condition::kAdaptation);
   RecordProperty("descriptions_correct", std::to_string(t.DescriptionRate()));

@@ -175,5 +175,52 @@ TEST_F(GroundingAmbiguityHttpTest, TheRoomPriorTurnsTheChairToItsTableAndSettles
   Post("/v1/maps/home/furniture-graphs", bad, 400);
 }
 
+TEST_F(GroundingAmbiguityHttpTest, JointModelOnRequest) {
+  Start();
+  Post("/v1/maps", {{"id", "home"}, {"name", "Home"}}, 201);
+  json body = TwoTables();
+  body["params"]["model"] = "bayes";
+  const json bad = Post("/v1/maps/home/furniture-graphs", body, 400);
+  EXPECT_EQ(bad["error"]["field"], "params.model") << bad.dump();
+  EXPECT_TRUE(Get("/v1/maps/home/furniture-graphs")["furniture_graphs"].empty());
+  body["params"]["model"] = "joint";
+  const json created = Post("/v1/maps/home/furniture-graphs", body, 201);
+  EXPECT_EQ(created["params"]["model"], "joint");
+  EXPECT_GT(created["params"]["ambiguity_margin"].get<double>(), 0.0);  // the joint model's margin [nats]
+  const std::string graph = "/v1/maps/home/furniture-graphs/" + std::to_string(created.value("id", 0));
+  const json seen = Categories(Get(graph));
+
+  // A relative-frame speaker: the plant behind the chair, twice, then the table in front of it; then "the table is
+  // left of the chair" means the table on the viewer's left, read in the frame the speaker has shown.
+  for (int i = 0; i < 2; ++i) Post(graph + "/descriptions", {{"text", "the plant is behind the chair"}}, 201);
+  Post(graph + "/descriptions", {{"text", "the table is in front of the chair"}}, 201);
+  const json r = Post(graph + "/descriptions", {{"text", "the table is left of the chair"}}, 201);
+  EXPECT_EQ(r["match"]["located"], "table_left") << r.dump();
+  EXPECT_EQ(r["match"]["frame"], "relative");
+  EXPECT_LT(r["match"]["score"].get<double>(), 0.0);  // a log-likelihood
+  EXPECT_LT(r["best"]["score"].get<double>(), r["match"]["score"].get<double>());  // the log-joint of four
+  const json after = Categories(Get(graph));
+  EXPECT_GT(after["plant"]["plant"].get<double>(), 0.99);  // the categories are posteriors
+  EXPECT_GT(after["table_left"]["table"].get<double>(), seen["table_left"]["table"].get<double>());
+  Restart();
+  const json again = Get(graph);
+  EXPECT_EQ(again["params"]["model"], "joint");
+  EXPECT_EQ(Categories(again), after);
+  Post(graph + "/descriptions", {{"text", "the plant is behind the chair"}}, 201);
+
+  // With a wider margin the first description of a new joint graph is held and :resolve applies its update.
+  body["params"]["ambiguity_margin"] = 2.0;
+  const json wide = Post("/v1/maps/home/furniture-graphs", body, 201);
+  const std::string held = "/v1/maps/home/furniture-graphs/" + std::to_string(wide.value("id", 0));
+  const json h = Post(held + "/descriptions", {{"text", "the table is left of the chair"}}, 201);
+  ASSERT_TRUE(h["ambiguity"].is_object()) << h.dump();
+  EXPECT_TRUE(h["ambiguity"]["ambiguous"].get<bool>());
+  EXPECT_EQ(h["ambiguity"]["question"].get<std::string>().rfind("do you mean the table ", 0), 0u);
+  EXPECT_EQ(Categories(Get(held)), seen);
+  const json resolved = Post(held + ":resolve", {{"seq", 1}, {"located", "table_front"}, {"reference", "chair"}}, 200);
+  EXPECT_GT(Categories(resolved)["table_front"]["table"].get<double>(), 0.99);
+  EXPECT_EQ(Categories(resolved)["table_left"], seen["table_left"]);
+}
+
 }  // namespace
 }  // namespace anchordb

@@ -1,0 +1,168 @@
+#include "engine/grounding/joint_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace anchordb::engine::grounding {
+namespace {
+
+std::size_t Idx(int v) { return static_cast<std::size_t>(v); }
+
+double SafeLog(double p) { return std::log(std::max(p, std::numeric_limits<double>::min())); }
+
+double Slacked(double p, double slack) { return (1.0 - slack) * p + slack / kRelationCount; }
+
+}  // namespace
+
+JointDescriptionTerms JointTerms(const FurnitureGraph& graph, const Knowledge& knowledge, const Description& d,
+                                 const JointParams& params) {
+  JointDescriptionTerms t;
+  t.nature = knowledge.categories[d.reference].nature;
+  for (int o = 0; o < kOrientationCount; ++o) {
+    t.intrinsic_relative[Idx(o)] = IntrinsicToRelative(d.relation, t.nature, static_cast<Orientation>(o));
+  }
+  const int directed_count = graph.DirectedEdgeCount();
+  t.log_proximity.assign(Idx(directed_count), 0.0);
+  t.relative_fit.assign(Idx(directed_count), 0.0);
+  t.intrinsic_fit.assign(Idx(directed_count), {});
+  // P(reference | located) over the located piece's edges, by the softmax of -gap / scale.
+  const double scale = std::max(params.proximity_scale_m, 1e-6);
+  std::vector<double> nearest(graph.vertices.size(), std::numeric_limits<double>::infinity());
+  for (const Edge& e : graph.edges) {
+    nearest[Idx(e.a)] = std::min(nearest[Idx(e.a)], e.gap_m);
+    nearest[Idx(e.b)] = std::min(nearest[Idx(e.b)], e.gap_m);
+  }
+  std::vector<double> normaliser(graph.vertices.size(), 0.0);
+  for (const Edge& e : graph.edges) {
+    normaliser[Idx(e.a)] += std::exp(-(e.gap_m - nearest[Idx(e.a)]) / scale);
+    normaliser[Idx(e.b)] += std::exp(-(e.gap_m - nearest[Idx(e.b)]) / scale);
+  }
+  const double w = params.line_of_sight_weight;
+  for (int e = 0; e < directed_count; ++e) {
+    const Edge& edge = graph.edges[Idx(e / 2)];
+    const int a = graph.Located(e);
+    t.log_proximity[Idx(e)] = -(edge.gap_m - nearest[Idx(a)]) / scale - std::log(normaliser[Idx(a)]);
+    const Distribution4& visual = graph.Visual(e);
+    const Distribution4& sight = edge.line_of_sight[Idx(e % 2)];
+    const std::size_t r = Idx(static_cast<int>(d.relation));
+    t.relative_fit[Idx(e)] = Slacked((1.0 - w) * visual[r] + w * sight[r], params.edge_fit_slack);
+    for (int o = 0; o < kOrientationCount; ++o) {
+      t.intrinsic_fit[Idx(e)][Idx(o)] =
+          Slacked(visual[Idx(static_cast<int>(t.intrinsic_relative[Idx(o)]))], params.edge_fit_slack);
+    }
+  }
+  return t;
+}
+
+FrameCounts CountFrames(const Knowledge& knowledge, const std::vector<Match>& matches) {
+  FrameCounts c;
+  for (const Match& m : matches) {
+    if (m.reference_category < 0 || knowledge.categories[m.reference_category].nature == Nature::kNone) continue;
+    ++c.total;
+    c.intrinsic += FrameOf(m.interpretation) == Frame::kIntrinsic;
+  }
+  return c;
+}
+
+double IntrinsicPreference(double prior_mean, const FrameCounts& counts, double strength) {
+  return (strength * prior_mean + counts.intrinsic) / (strength + counts.total);
+}
+
+double NamingProbability(double p_category, int category_count, double naming_noise) {
+  const double other = category_count > 1 ? naming_noise / (category_count - 1) : 0.0;
+  return (1.0 - naming_noise) * p_category + other * (1.0 - p_category);
+}
+
+void JointScores(const FurnitureGraph& graph, const Knowledge& knowledge, const GroundingParams& params, Scheme scheme,
+                 const JointDescriptionTerms& terms, const Description& d, const Hypothesis& parent,
+                 std::vector<InterpretationScore>& out) {
+  const int k = graph.category_count;
+  const std::size_t n = graph.vertices.size();
+  const GraphState& s = parent.state;
+  const JointParams& jp = params.joint;
+  // Per vertex: the naming terms and the frame x orientation terms of a reading with it as reference.
+  std::vector<double> log_located(n), log_reference(n), log_relative_frame(n);
+  std::vector<std::array<double, kOrientationCount>> log_intrinsic(n);
+  std::vector<std::array<double, kOrientationCount>> p_intrinsic_frame(n);
+  const FrameCounts counts = CountFrames(knowledge, parent.matches);
+  const bool fronted = terms.nature != Nature::kNone;
+  for (std::size_t v = 0; v < n; ++v) {
+    log_located[v] = SafeLog(NamingProbability(s.category[v * Idx(k) + Idx(d.located)], k, jp.naming_noise));
+    log_reference[v] = SafeLog(NamingProbability(s.category[v * Idx(k) + Idx(d.reference)], k, jp.naming_noise));
+    const double* p_o = &s.orientation[v * kOrientationCount];
+    double p_relative = 0.0;
+    for (int o = 0; o < kOrientationCount; ++o) {
+      const auto orient = static_cast<Orientation>(o);
+      // The relative reading: r' = the word; its frame probability averaged over the believed orientation.
+      const double mean_r = knowledge.prior.Probability(scheme, Frame::kIntrinsic, terms.nature, orient, d.relation);
+      const double pi_r = fronted ? IntrinsicPreference(mean_r, counts, jp.frame_prior_strength) : mean_r;
+      p_relative += p_o[o] * (1.0 - pi_r);
+      const double mean_i = knowledge.prior.Probability(scheme, Frame::kIntrinsic, terms.nature, orient,
+                                                        terms.intrinsic_relative[Idx(o)]);
+      const double pi_i = fronted ? IntrinsicPreference(mean_i, counts, jp.frame_prior_strength) : mean_i;
+      p_intrinsic_frame[v][Idx(o)] = pi_i * p_o[o];
+      log_intrinsic[v][Idx(o)] = SafeLog(pi_i * p_o[o]);
+    }
+    log_relative_frame[v] = SafeLog(p_relative);
+  }
+  const int directed_count = graph.DirectedEdgeCount();
+  out.resize(Idx(directed_count * kInterpretationCount));
+  for (int e = 0; e < directed_count; ++e) {
+    const std::size_t a = Idx(graph.Located(e)), b = Idx(graph.Reference(e));
+    const double base = log_located[a] + log_reference[b] + terms.log_proximity[Idx(e)];
+    InterpretationScore* x = &out[Idx(e * kInterpretationCount)];
+    x[0].relative = d.relation;
+    x[0].rho = std::exp(log_relative_frame[b]) * terms.relative_fit[Idx(e)];
+    x[0].score = base + log_relative_frame[b] + SafeLog(terms.relative_fit[Idx(e)]);
+    for (int o = 0; o < kOrientationCount; ++o) {
+      const double fit = terms.intrinsic_fit[Idx(e)][Idx(o)];
+      x[o + 1].relative = terms.intrinsic_relative[Idx(o)];
+      x[o + 1].rho = p_intrinsic_frame[b][Idx(o)] * fit;
+      x[o + 1].score = base + log_intrinsic[b][Idx(o)] + SafeLog(fit);
+    }
+  }
+}
+
+void JointCategoryUpdate(const FurnitureGraph& graph, GraphState& state, const Description& d, const Match& match,
+                         double naming_noise, double category_floor, const std::vector<Match>& earlier) {
+  if (!CategoryUpdateAllowed(graph, state, d, match, category_floor, earlier)) return;
+  const int k = graph.category_count;
+  const int vertices[2] = {graph.Located(match.directed_edge), graph.Reference(match.directed_edge)};
+  const int described[2] = {d.located, d.reference};
+  const double other = k > 1 ? naming_noise / (k - 1) : 0.0;
+  for (int i = 0; i < 2; ++i) {
+    double* row = &state.category[Idx(vertices[i] * k)];
+    double sum = 0.0;
+    for (int c = 0; c < k; ++c) sum += row[c] *= c == described[i] ? 1.0 - naming_noise : other;
+    if (sum > 0.0) {
+      for (int c = 0; c < k; ++c) row[c] /= sum;
+    }
+  }
+}
+
+GraphState JointApplyMatch(const FurnitureGraph& graph, const GraphState& state, const Knowledge& knowledge,
+                           const Description& d, const Match& match, const GroundingParams& params, bool categories,
+                           const std::vector<Match>& earlier) {
+  GraphState out = state;
+  if (categories) JointCategoryUpdate(graph, out, d, match, params.joint.naming_noise, params.category_floor, earlier);
+  Distribution4 relation{};
+  relation[Idx(static_cast<int>(match.relative))] = 1.0;
+  DampedUpdate(&out.relation[Idx(match.directed_edge * kRelationCount)], relation.data(), kRelationCount, params.sigma);
+  if (FrameOf(match.interpretation) == Frame::kIntrinsic) {
+    const Nature nature = knowledge.categories[d.reference].nature;
+    const Distribution4& visual = graph.Visual(match.directed_edge);
+    double* p_o = &out.orientation[Idx(graph.Reference(match.directed_edge) * kOrientationCount)];
+    double sum = 0.0;
+    for (int o = 0; o < kOrientationCount; ++o) {
+      const Relation r = IntrinsicToRelative(d.relation, nature, static_cast<Orientation>(o));
+      sum += p_o[o] *= Slacked(visual[Idx(static_cast<int>(r))], params.joint.edge_fit_slack);
+    }
+    if (sum > 0.0) {
+      for (int o = 0; o < kOrientationCount; ++o) p_o[o] /= sum;
+    }
+  }
+  return out;
+}
+
+}  // namespace anchordb::engine::grounding
