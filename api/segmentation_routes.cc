@@ -40,7 +40,8 @@ SegmentationRequest ParseSegmentationRequest(const Json& body) {
     const Json& p = body["params"];
     if (!p.is_object()) throw Error(ErrorCode::kInvalidArgument, "params must be an object", "params");
     json::RejectUnknownKeys(p, {"voxel_m", "plane_distance_m", "cluster_tolerance_m", "min_cluster_points", "contact_m",
-                                "band_m", "wall_min_width_m", "wall_min_height_m", "wall_reach_m"}, "params");
+                                "band_m", "wall_min_width_m", "wall_min_height_m", "wall_reach_m", "core_radius_m",
+                                "core_density"}, "params");
     auto& q = r.params;
     q.voxel_m = json::FiniteNumberOr(p, "voxel_m", q.voxel_m, "params");
     q.plane_distance_m = json::FiniteNumberOr(p, "plane_distance_m", q.plane_distance_m, "params");
@@ -53,6 +54,8 @@ SegmentationRequest ParseSegmentationRequest(const Json& body) {
     q.wall_min_width_m = json::FiniteNumberOr(p, "wall_min_width_m", q.wall_min_width_m, "params");
     q.wall_min_height_m = json::FiniteNumberOr(p, "wall_min_height_m", q.wall_min_height_m, "params");
     q.wall_reach_m = json::FiniteNumberOr(p, "wall_reach_m", q.wall_reach_m, "params");
+    q.core_radius_m = json::FiniteNumberOr(p, "core_radius_m", q.core_radius_m, "params");
+    q.core_density = json::FiniteNumberOr(p, "core_density", q.core_density, "params");
   }
   return r;
 }

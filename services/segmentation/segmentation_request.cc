@@ -21,7 +21,8 @@ std::string SegmentationRequestDocument(const SegmentationRequest& r) {
                      {"max_behind_fraction", p.max_behind_fraction}, {"wall_min_width_m", p.wall_min_width_m},
                      {"wall_min_height_m", p.wall_min_height_m}, {"band_m", p.band_m}, {"outlier_radius_m", p.outlier_radius_m},
                      {"outlier_min_neighbours", p.outlier_min_neighbours}, {"cluster_tolerance_m", p.cluster_tolerance_m},
-                     {"min_cluster_points", p.min_cluster_points}, {"contact_m", p.contact_m}, {"wall_reach_m", p.wall_reach_m}}}};
+                     {"min_cluster_points", p.min_cluster_points}, {"contact_m", p.contact_m}, {"wall_reach_m", p.wall_reach_m},
+                     {"core_radius_m", p.core_radius_m}, {"core_density", p.core_density}}}};
   if (r.shape_model) j["shape_model"] = *r.shape_model;
   return j.dump();
 }
@@ -55,6 +56,8 @@ SegmentationRequest SegmentationRequestFromDocument(const std::string& text) {
   q.min_cluster_points = p.value("min_cluster_points", q.min_cluster_points);
   q.contact_m = p.value("contact_m", q.contact_m);
   q.wall_reach_m = p.value("wall_reach_m", q.wall_reach_m);
+  q.core_radius_m = p.value("core_radius_m", q.core_radius_m);
+  q.core_density = p.value("core_density", q.core_density);
   return r;
 }
 
