@@ -17,11 +17,19 @@ using namespace params;
 namespace {
 
 SegmentationRequest ParseSegmentationRequest(const Json& body) {
-  json::RejectUnknownKeys(body, {"source", "keyframes", "max_keyframes", "max_range_m", "shape_model", "match_iou", "params"});
+  json::RejectUnknownKeys(body, {"source", "keyframes", "max_keyframes", "max_range_m", "shape_model", "use_stored_shape_model",
+                                  "match_iou", "params"});
   SegmentationRequest r;
   if (const auto source = json::OptionalString(body, "source", 16)) {
     if (*source == "octomap") r.source = SegmentationSource::kOctomap;
-    else if (*source != "keyframes") throw Error(ErrorCode::kInvalidArgument, "source must be keyframes or octomap", "source");
+    else if (*source == "cloud") {
+      throw Error(ErrorCode::kInvalidArgument, "the cloud source takes the room cloud as the body (Content-Type application/x-pcd, "
+                  "application/x-ply or application/octet-stream), not JSON", "source");
+    } else if (*source != "keyframes") throw Error(ErrorCode::kInvalidArgument, "source must be keyframes or octomap", "source");
+  }
+  if (body.contains("use_stored_shape_model")) {
+    if (!body["use_stored_shape_model"].is_boolean()) throw Error(ErrorCode::kInvalidArgument, "use_stored_shape_model must be true or false", "use_stored_shape_model");
+    r.use_stored_shape_model = body["use_stored_shape_model"].get<bool>();
   }
   if (body.contains("keyframes")) {
     const Json& k = body["keyframes"];
@@ -40,7 +48,8 @@ SegmentationRequest ParseSegmentationRequest(const Json& body) {
     const Json& p = body["params"];
     if (!p.is_object()) throw Error(ErrorCode::kInvalidArgument, "params must be an object", "params");
     json::RejectUnknownKeys(p, {"voxel_m", "plane_distance_m", "cluster_tolerance_m", "min_cluster_points", "contact_m",
-                                "band_m", "wall_min_width_m", "wall_min_height_m", "wall_reach_m"}, "params");
+                                "band_m", "wall_min_width_m", "wall_min_height_m", "wall_reach_m", "core_radius_m",
+                                "core_density"}, "params");
     auto& q = r.params;
     q.voxel_m = json::FiniteNumberOr(p, "voxel_m", q.voxel_m, "params");
     q.plane_distance_m = json::FiniteNumberOr(p, "plane_distance_m", q.plane_distance_m, "params");
@@ -53,7 +62,27 @@ SegmentationRequest ParseSegmentationRequest(const Json& body) {
     q.wall_min_width_m = json::FiniteNumberOr(p, "wall_min_width_m", q.wall_min_width_m, "params");
     q.wall_min_height_m = json::FiniteNumberOr(p, "wall_min_height_m", q.wall_min_height_m, "params");
     q.wall_reach_m = json::FiniteNumberOr(p, "wall_reach_m", q.wall_reach_m, "params");
+    q.core_radius_m = json::FiniteNumberOr(p, "core_radius_m", q.core_radius_m, "params");
+    q.core_density = json::FiniteNumberOr(p, "core_density", q.core_density, "params");
   }
+  return r;
+}
+
+// A PCD or PLY body: the room cloud itself (the cloud source); the options then come as query parameters.
+bool IsCloudBody(const httplib::Request& req) {
+  const std::string type = req.get_header_value("Content-Type");
+  return type.rfind("application/x-pcd", 0) == 0 || type.rfind("application/x-ply", 0) == 0 ||
+         type.rfind("application/octet-stream", 0) == 0;
+}
+
+SegmentationRequest ParseCloudSegmentationRequest(const httplib::Request& req) {
+  SegmentationRequest r;
+  r.source = SegmentationSource::kCloud;
+  r.cloud_bytes = req.body;
+  r.shape_model = QueryString(req, "shape_model", 64);
+  r.use_stored_shape_model = QueryTrueFalse(req, "use_stored_shape_model", true);
+  r.skip_nonfinite = QueryTrueFalse(req, "skip_nonfinite", false);
+  r.match_iou = QueryNumber(req, "match_iou", r.match_iou, 1e-9, 1.0);
   return r;
 }
 
@@ -71,11 +100,15 @@ Json ToJson(const FurnitureInstanceView& v) {
 
 void RegisterSegmentationRoutes(Router& router, FurnitureSegmentationService& s) {
   router.Add("POST", "/v1/maps/{map}/furniture:segment", Role::kWriter,
-      "Segment the furniture (thesis 5.3.1) in the map's keyframes merged in the map frame ({source, keyframes, "
-      "max_range_m, shape_model, match_iou, params}); every segment becomes or updates a furniture instance "
-      "(an operator's is never changed); 202 with the job",
+      "Segment the furniture (thesis 5.3.1) in the map's keyframes merged in the map frame or its OctoMap's occupied "
+      "voxels (JSON {source: keyframes|octomap, keyframes, max_range_m, shape_model, use_stored_shape_model, "
+      "match_iou, params}), or in a room cloud sent as the body (PCD / PLY, map frame; query shape_model, "
+      "use_stored_shape_model, skip_nonfinite, match_iou). Each segment is classified by the named or else the "
+      "newest stored shape model (verification mode) and becomes or updates a furniture instance (an operator's "
+      "is never changed); 202 with the job",
       [&s](const httplib::Request& req, const PathParams& p) {
-        return JsonResponse(ToJson(s.Submit(p["map"], ParseSegmentationRequest(BodyObject(req)))), 202);
+        const SegmentationRequest r = IsCloudBody(req) ? ParseCloudSegmentationRequest(req) : ParseSegmentationRequest(BodyObject(req));
+        return JsonResponse(ToJson(s.Submit(p["map"], r)), 202);
       });
   router.Add("GET", "/v1/maps/{map}/furniture", Role::kReader,
       "The map's furniture instances: found by segmentation (p(f), footprint, height, yaw, evidence keyframes) or "

@@ -133,7 +133,9 @@ LostKeyResult RunLostKeyScenario(httplib::Client& client, const LostKeyOptions& 
   result.keys_true_m = c2;
 
   if (o.segment_furniture) {
-    const json ticket = d.Call("POST", maps + "/furniture:segment", json::object(), 202);
+    json request = json::object();
+    if (!o.segmentation_params.empty()) request["params"] = o.segmentation_params;
+    const json ticket = d.Call("POST", maps + "/furniture:segment", request, 202);
     const std::string path = "/v1/jobs/" + std::to_string(ticket["job"].get<std::int64_t>());
     for (int i = 0; i < 3000; ++i) {
       result.segmentation = d.Call("GET", path, json(), 200);

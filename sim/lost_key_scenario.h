@@ -35,6 +35,7 @@ struct LostKeyOptions {
   // before the where-is questions are asked.
   bool enter_furniture = true;
   bool segment_furniture = false;
+  nlohmann::json segmentation_params = nlohmann::json::object();  // the segmentation request's "params" (empty: defaults)
   std::function<void(const std::string&)> log;  // progress lines (the demo prints them)
 };
 

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <unordered_map>
 #include <unordered_set>
 #include <Eigen/Geometry>
 
@@ -46,6 +47,8 @@ void CheckParams(const SegmentationParams& p) {
   Check(p.outlier_radius_m >= 0.0 && p.outlier_radius_m <= 1.0, "outlier_radius_m", "must be in [0, 1] m");
   Check(p.outlier_min_neighbours >= 0 && p.outlier_min_neighbours <= 1000, "outlier_min_neighbours", "must be in [0, 1000]");
   Check(p.cluster_tolerance_m > 0.0 && p.cluster_tolerance_m <= 1.0, "cluster_tolerance_m", "must be in (0, 1] m");
+  Check(p.core_radius_m > 0.0 && p.core_radius_m <= 0.5, "core_radius_m", "must be in (0, 0.5] m");
+  Check(p.core_density >= 0.0 && p.core_density < 1.0, "core_density", "must be in [0, 1)");
   Check(p.min_cluster_points >= 1, "min_cluster_points", "must be at least 1");
   Check(p.contact_m >= 0.0 && p.contact_m <= 1.0, "contact_m", "must be in [0, 1] m");
 }
@@ -109,6 +112,68 @@ void Bounds(const Cloud& cloud, Cluster& c) {
     c.centroid += q;
   }
   c.centroid /= static_cast<double>(c.indices.size());
+}
+
+// One Euclidean cluster cut at bridges of sparse points (flying pixels trailing from one piece to the next). A
+// point is core when its neighbours within core_radius_m number at least core_density times the cluster's median;
+// the core points are clustered again, and when two or more core clusters of min_cluster_points come out, every
+// other point joins the one whose core point is nearest. Otherwise the cluster stays whole.
+std::vector<std::vector<int>> SplitBridges(const Cloud::Ptr& cloud, std::vector<int> indices, const SegmentationParams& p) {
+  std::vector<std::vector<int>> whole;
+  if (!(p.core_density > 0.0) || indices.size() < 2 * p.min_cluster_points) {
+    whole.push_back(std::move(indices));
+    return whole;
+  }
+  pcl::search::KdTree<pcl::PointXYZ> tree;
+  tree.setInputCloud(cloud, std::make_shared<std::vector<int>>(indices));
+  std::vector<int> count(indices.size());
+  std::vector<int> found;
+  std::vector<float> d2;
+  for (std::size_t k = 0; k < indices.size(); ++k) {
+    count[k] = tree.radiusSearch((*cloud)[static_cast<std::size_t>(indices[k])], p.core_radius_m, found, d2);
+  }
+  std::vector<int> sorted = count;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+  const double threshold = p.core_density * sorted[sorted.size() / 2];
+  pcl::IndicesPtr core = std::make_shared<std::vector<int>>();
+  for (std::size_t k = 0; k < indices.size(); ++k) {
+    if (count[k] >= threshold) core->push_back(indices[k]);
+  }
+  if (core->size() < 2 * p.min_cluster_points) {
+    whole.push_back(std::move(indices));
+    return whole;
+  }
+  pcl::search::KdTree<pcl::PointXYZ>::Ptr core_tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>();
+  core_tree->setInputCloud(cloud, core);
+  pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
+  ec.setClusterTolerance(p.cluster_tolerance_m);
+  ec.setMinClusterSize(static_cast<int>(p.min_cluster_points));
+  ec.setMaxClusterSize(std::numeric_limits<int>::max());
+  ec.setSearchMethod(core_tree);
+  ec.setInputCloud(cloud);
+  ec.setIndices(core);
+  std::vector<pcl::PointIndices> parts;
+  ec.extract(parts);
+  if (parts.size() < 2) {
+    whole.push_back(std::move(indices));
+    return whole;
+  }
+  // Everything that is not in a kept core part goes to the part of its nearest kept core point.
+  std::unordered_map<int, std::size_t> part_of;
+  pcl::IndicesPtr kept = std::make_shared<std::vector<int>>();
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    for (int i : parts[k].indices) part_of.emplace(i, k), kept->push_back(i);
+  }
+  pcl::search::KdTree<pcl::PointXYZ> kept_tree;
+  kept_tree.setInputCloud(cloud, kept);
+  std::vector<std::vector<int>> out(parts.size());
+  for (std::size_t k = 0; k < parts.size(); ++k) out[k] = parts[k].indices;
+  for (int i : indices) {
+    if (part_of.count(i)) continue;
+    if (kept_tree.nearestKSearch((*cloud)[static_cast<std::size_t>(i)], 1, found, d2) < 1) continue;
+    out[part_of.at(found[0])].push_back(i);
+  }
+  return out;
 }
 
 }  // namespace
@@ -258,13 +323,19 @@ SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m,
   std::vector<pcl::PointIndices> found;
   ec.extract(found);
   std::vector<Cluster> clusters;
+  std::vector<std::vector<int>> pieces;
   for (pcl::PointIndices& f : found) {
     if (f.indices.size() < p.min_cluster_points) {
       ++out.small_clusters;
       continue;
     }
+    std::vector<std::vector<int>> parts = SplitBridges(remaining, std::move(f.indices), p);
+    out.bridges_cut += parts.size() > 1;
+    for (auto& part : parts) pieces.push_back(std::move(part));
+  }
+  for (std::vector<int>& piece : pieces) {
     Cluster c;
-    c.indices = std::move(f.indices);
+    c.indices = std::move(piece);
     Bounds(*remaining, c);
     c.floor = out.floor_z_m && c.lo.z() <= *out.floor_z_m + p.band_m + p.contact_m;
     for (int i : c.indices) {

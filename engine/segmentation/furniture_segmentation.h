@@ -7,6 +7,8 @@
 // spreads them); every other plane (a table top, a shelf board) stays. The rest is grouped by Euclidean clustering;
 // clusters of at least `min_cluster_points` that touch the floor or a wall are furniture; "flying" clusters (touching
 // neither, split off by occlusion) are merged into the nearest cluster below them, and dropped when there is none.
+// Before that, a cluster whose dense ("core") points fall apart into several pieces is cut there: two pieces joined
+// only by a thin trail of flying pixels at a depth discontinuity become two clusters.
 // PCL stays in furniture_segmentation.cc.
 #include <Eigen/Core>
 
@@ -36,6 +38,12 @@ struct SegmentationParams {
   double outlier_radius_m = 0.05;      // a point with fewer than `outlier_min_neighbours` within this is noise
   int outlier_min_neighbours = 4;
   double cluster_tolerance_m = 0.05;   // Euclidean clustering distance [m]
+  // Bridges of flying (mixed) pixels between two pieces: a point with fewer neighbours within `core_radius_m` than
+  // `core_density` times its cluster's median count is not core; when the core points of a cluster fall into two or
+  // more clusters of at least `min_cluster_points`, the cluster is split there and every other point joins the
+  // nearest core. core_density = 0 never splits.
+  double core_radius_m = 0.05;
+  double core_density = 0.5;
   std::size_t min_cluster_points = 150;  // smaller clusters are not furniture (at the default voxel: ~0.06 m^2)
   double contact_m = 0.10;             // a cluster within this of the floor or a wall touches it [m]
   // A piece whose footprint ends at most this far in front of a wall extends back to it when the floor between was
@@ -71,6 +79,7 @@ struct SegmentationResult {
   std::size_t thinned_points = 0;          // after the voxel grid
   std::size_t remaining_points = 0;        // after bounding planes and outliers
   int small_clusters = 0;                  // dropped: below min_cluster_points
+  int bridges_cut = 0;                     // clusters split at a bridge of sparse points (into 2 or more)
   int flying_dropped = 0;                  // flying clusters with nothing below them
   std::optional<double> floor_z_m;         // height of the floor plane when one was found
 };

@@ -1,6 +1,10 @@
 #include "services/capabilities.h"
 
 #include "engine/grounding/knowledge.h"
+#include "schema/error.h"
+
+#include <algorithm>
+#include <cmath>
 
 #include "services/events/event_settings.h"
 #include "services/features/feature_settings.h"
@@ -19,6 +23,33 @@ std::vector<std::string> CategoryIds(const std::string& knowledge_json) {
   for (const auto& c : knowledge.categories.all()) ids.push_back(c.id);
   return ids;
 }
+// The map's OctoMap as points at its resolution: a pruned voxel (a block of equal leaves) gives the centres of
+// the leaves it stands for. Up to FurnitureSegmentationService::kMaxCloudPoints (more: kPayloadTooLarge).
+std::optional<OccupiedCloud> OccupiedCloudOf(OctomapService& octomap, const std::string& map) {
+  octomap.Follow(map);  // keyframes stored since the tree's last update (with octomap_from_keyframes)
+  if (!octomap.HasTree(map)) return std::nullopt;
+  OccupiedCloud out;
+  out.resolution_m = octomap.Get(map).params.resolution_m;
+  const engine::Box3 everywhere{Eigen::Vector3d::Constant(-1e9), Eigen::Vector3d::Constant(1e9)};
+  const VoxelsResult voxels = octomap.OccupiedVoxels(map, everywhere, std::nullopt);
+  out.truncated = voxels.truncated;
+  const double res = out.resolution_m;
+  for (const engine::Voxel& v : voxels.voxels) {
+    const int n = std::max(1, static_cast<int>(std::lround(v.size_m / res)));
+    if (out.points_m.size() + static_cast<std::size_t>(n) * n * n > FurnitureSegmentationService::kMaxCloudPoints) {
+      throw Error(ErrorCode::kPayloadTooLarge, "the OctoMap holds more occupied space than " +
+                  std::to_string(FurnitureSegmentationService::kMaxCloudPoints) + " voxels", "octomap");
+    }
+    const Eigen::Vector3d corner = v.center_M - Eigen::Vector3d::Constant(0.5 * v.size_m);
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j) {
+        for (int k = 0; k < n; ++k) out.points_m.push_back((corner + res * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5)).cast<float>());
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 void BindCapabilitySettings(SettingsBinder& b, CapabilityOptions& o) {
@@ -46,7 +77,10 @@ Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, co
       keyframe_features(features, &octomap_feed, o.features.extract_every_keyframe),
       classifiers(store, jobs, features, grid, clock),
       shapes(store, jobs, o.shapes, clock),
-      segmentation(store, jobs, CategoryIds(furniture.knowledge_json()), clock) {
+      segmentation(store, jobs, CategoryIds(furniture.knowledge_json()), clock, SegmentationLinks{
+          [this](const std::string& name) { return shapes.Find(name); },
+          [this] { return shapes.Newest(); },
+          [this](const std::string& map) { return OccupiedCloudOf(octomap, map); }}) {
   // Stored keyframes go to feature extraction (by setting), then the OctoMap feed, then the analysis queue.
   scenes.SetKeyframeListener(&keyframe_features);
 }

@@ -142,11 +142,12 @@ std::vector<double> Classify(const seg::FurnitureSegment& s, std::optional<doubl
 }  // namespace
 
 SegmentationOutcome RunSegmentation(const FurnitureSegmentationService::Core& core, const std::string& map,
-                                    const SegmentationRequest& r, std::optional<std::int64_t> job_id);
+                                    const SegmentationRequest& r, std::optional<std::int64_t> job_id,
+                                    const std::vector<Eigen::Vector3f>* client_cloud);
 
 FurnitureSegmentationService::FurnitureSegmentationService(storage::Store& store, JobService& jobs, std::vector<std::string> category_ids,
-                                                           const Clock& clock, ShapeModelLookup lookup)
-    : store_(store), jobs_(jobs), core_(std::make_shared<Core>(Core{store, std::move(category_ids), clock, std::move(lookup)})) {
+                                                           const Clock& clock, SegmentationLinks links)
+    : store_(store), jobs_(jobs), core_(std::make_shared<Core>(Core{store, std::move(category_ids), clock, std::move(links)})) {
   JobKind kind;
   kind.name = "furniture_segment";
   kind.first_stage = "reading";
@@ -156,17 +157,30 @@ FurnitureSegmentationService::FurnitureSegmentationService(storage::Store& store
   // destroyed.
   kind.run = [core = core_](JobContext& job) -> std::optional<std::string> {
     job.Progress("segmenting", 0.1);
-    const SegmentationOutcome out = RunSegmentation(*core, *job.map(), SegmentationRequestFromDocument(job.request()), job.id());
+    std::optional<std::int64_t> staging;
+    SegmentationRequest request = SegmentationRequestFromDocument(job.request(), &staging);
+    std::vector<Eigen::Vector3f> staged;
+    if (request.source == SegmentationSource::kCloud) {
+      std::lock_guard<std::mutex> lock(core->staging->mutex);
+      const auto it = staging ? core->staging->clouds.find(*staging) : core->staging->clouds.end();
+      if (it == core->staging->clouds.end()) {
+        throw Error(ErrorCode::kUnprocessable, "the room cloud of this job is gone (the server restarted); send it again", "body");
+      }
+      staged = std::move(it->second);
+      core->staging->clouds.erase(it);
+    }
+    const SegmentationOutcome out = RunSegmentation(*core, *job.map(), request, job.id(), &staged);
     Json segments = Json::array();
     for (const SegmentOutcome& s : out.segments) {
       segments.push_back({{"action", s.action}, {"furniture", s.instance.id}, {"label", s.instance.label},
-                          {"label_probability", s.instance.label_probability},
+                          {"label_probability", s.instance.label_probability}, {"classifier", s.instance.classifier},
                           {"position_m", {s.instance.position_m.x(), s.instance.position_m.y()}},
                           {"extent_m", {s.instance.extent_m.x(), s.instance.extent_m.y()}}, {"yaw_rad", s.instance.yaw_rad},
                           {"height_m", s.instance.height_m}, {"points", s.instance.points},
                           {"cloud", "/v1/maps/" + *job.map() + "/furniture/" + std::to_string(s.instance.id) + "/cloud"}});
     }
-    return Json{{"input_points", out.input_points}, {"thinned_points", out.thinned_points}, {"remaining_points", out.remaining_points},
+    return Json{{"source", out.source}, {"shape_model", out.shape_model ? Json(*out.shape_model) : Json()},
+                {"octomap_truncated", out.octomap_truncated}, {"bridges_cut", out.bridges_cut}, {"input_points", out.input_points}, {"thinned_points", out.thinned_points}, {"remaining_points", out.remaining_points},
                 {"planes", out.planes}, {"small_clusters", out.small_clusters}, {"flying_dropped", out.flying_dropped},
                 {"floor_z_m", out.floor_z_m ? Json(*out.floor_z_m) : Json()}, {"segments", segments}, {"seconds", out.seconds}}.dump();
   };
@@ -175,34 +189,83 @@ FurnitureSegmentationService::FurnitureSegmentationService(storage::Store& store
 
 JobTicket FurnitureSegmentationService::Submit(const std::string& map, const SegmentationRequest& request) {
   CheckSegmentationRequest(request);
-  if (request.shape_model && (!core_->lookup || !core_->lookup(*request.shape_model))) {
+  if (request.shape_model && (!core_->links.shape_model || !core_->links.shape_model(*request.shape_model))) {
     throw Error(ErrorCode::kNotFound, "shape model '" + *request.shape_model + "' does not exist", "shape_model");
   }
-  return jobs_.Submit("furniture_segment", map, SegmentationRequestDocument(request));
+  if (request.source == SegmentationSource::kOctomap && !core_->links.octomap) {
+    throw Error(ErrorCode::kUnprocessable, "this server has no OctoMap capability; use source keyframes or cloud", "source");
+  }
+  if (request.source != SegmentationSource::kCloud) return jobs_.Submit("furniture_segment", map, SegmentationRequestDocument(request));
+  std::vector<Eigen::Vector3f> cloud = DecodeRoomCloud(request.cloud_bytes, request.skip_nonfinite);
+  std::int64_t staging = 0;
+  {
+    std::lock_guard<std::mutex> lock(core_->staging->mutex);
+    staging = core_->staging->next++;
+    core_->staging->clouds[staging] = std::move(cloud);
+  }
+  try {
+    return jobs_.Submit("furniture_segment", map, SegmentationRequestDocument(request, staging));
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(core_->staging->mutex);
+    core_->staging->clouds.erase(staging);
+    throw;
+  }
 }
 
 SegmentationOutcome FurnitureSegmentationService::Run(const std::string& map, const SegmentationRequest& r, std::optional<std::int64_t> job_id) {
-  return RunSegmentation(*core_, map, r, job_id);
+  std::vector<Eigen::Vector3f> cloud;
+  if (r.source == SegmentationSource::kCloud) cloud = DecodeRoomCloud(r.cloud_bytes, r.skip_nonfinite);
+  return RunSegmentation(*core_, map, r, job_id, &cloud);
 }
 
+namespace {
+
+// The segmentation parameters for a cloud of voxel centres `resolution_m` apart (the octomap source): thinning
+// keeps every centre, and the counts meant for the default voxel scale with the area per point.
+seg::SegmentationParams AtResolution(seg::SegmentationParams p, double resolution_m) {
+  if (!(resolution_m > p.voxel_m)) return p;
+  const double area = (p.voxel_m / resolution_m) * (p.voxel_m / resolution_m);
+  const auto scaled = [area](std::size_t n, std::size_t least) {
+    return std::max<std::size_t>(least, static_cast<std::size_t>(std::lround(static_cast<double>(n) * area)));
+  };
+  p.min_plane_points = scaled(p.min_plane_points, 3);
+  p.min_cluster_points = scaled(p.min_cluster_points, 1);
+  p.voxel_m = std::min(1.0, 0.5 * resolution_m);  // half a voxel: each centre in a leaf of its own
+  const double link = std::min(0.5, 1.5 * resolution_m);  // across one voxel diagonal in a plane
+  p.cluster_tolerance_m = std::max(p.cluster_tolerance_m, link);
+  p.core_radius_m = std::max(p.core_radius_m, link);
+  p.outlier_radius_m = std::max(p.outlier_radius_m, link);
+  p.plane_distance_m = std::max(p.plane_distance_m, std::min(0.5, 0.75 * resolution_m));
+  return p;
+}
+
+}  // namespace
+
 SegmentationOutcome RunSegmentation(const FurnitureSegmentationService::Core& core, const std::string& map,
-                                    const SegmentationRequest& r, std::optional<std::int64_t> job_id) {
+                                    const SegmentationRequest& r, std::optional<std::int64_t> job_id,
+                                    const std::vector<Eigen::Vector3f>* client_cloud) {
   storage::Store& store_ = core.store;
   const std::vector<std::string>& category_ids_ = core.category_ids;
   const Clock& clock_ = core.clock;
-  const auto& lookup_ = core.lookup;
+  const SegmentationLinks& links = core.links;
   CheckSegmentationRequest(r);
   std::shared_ptr<const engine::ShapeModel> model;
-  if (r.shape_model) {
-    if (lookup_) model = lookup_(*r.shape_model);
-    if (!model) throw Error(ErrorCode::kNotFound, "shape model '" + *r.shape_model + "' does not exist", "shape_model");
+  std::optional<std::string> model_name = r.shape_model;
+  if (!model_name && r.use_stored_shape_model && links.newest_shape_model) model_name = links.newest_shape_model();
+  if (model_name) {
+    if (links.shape_model) model = links.shape_model(*model_name);
+    if (!model && r.shape_model) throw Error(ErrorCode::kNotFound, "shape model '" + *r.shape_model + "' does not exist", "shape_model");
+    if (!model) model_name.reset();  // the newest was deleted meanwhile: by shape alone
   }
+  SegmentationOutcome out;
+  out.shape_model = model_name;
+  seg::SegmentationParams params = r.params;
   // 1. The room cloud.
   std::vector<Camera> cameras;
   std::vector<Eigen::Vector3f> cloud;
   store_.Read([&](storage::Connection& c) {
     RequireMap(c, map);
-    if (r.source == SegmentationSource::kOctomap) return 0;
+    if (r.source != SegmentationSource::kKeyframes) return 0;
     const std::vector<std::int64_t> ids = r.keyframes.empty() ? storage::NewestKeyframeIds(c, map, r.max_keyframes) : r.keyframes;
     for (std::size_t i = 0; i < ids.size(); ++i) {
       std::optional<KeyframeNotice> kf = LoadKeyframeNotice(c, map, ids[i]);
@@ -224,14 +287,27 @@ SegmentationOutcome RunSegmentation(const FurnitureSegmentationService::Core& co
     return 0;
   });
   if (r.source == SegmentationSource::kOctomap) {
-    throw Error(ErrorCode::kUnprocessable, "the octomap source is not wired in this build; use source keyframes", "source");
+    out.source = "octomap";
+    std::optional<OccupiedCloud> tree = links.octomap ? links.octomap(map) : std::nullopt;
+    if (!links.octomap) throw Error(ErrorCode::kUnprocessable, "this server has no OctoMap capability", "source");
+    if (!tree) throw Error(ErrorCode::kNotFound, "map '" + map + "' has no OctoMap", "octomap");
+    if (tree->points_m.empty()) throw Error(ErrorCode::kUnprocessable, "the OctoMap of map '" + map + "' has no occupied voxel", "octomap");
+    cloud = std::move(tree->points_m);
+    out.octomap_truncated = tree->truncated;
+    params = AtResolution(params, tree->resolution_m);
+  } else if (r.source == SegmentationSource::kCloud) {
+    out.source = "cloud";
+    if (!client_cloud || client_cloud->empty()) throw Error(ErrorCode::kUnprocessable, "the room cloud is empty", "body");
+    cloud = *client_cloud;
+  } else {
+    out.source = "keyframes";
+    if (cloud.empty()) throw Error(ErrorCode::kUnprocessable, "the room cloud is empty (no keyframe, or no depth within max_range_m)", "keyframes");
   }
-  if (cloud.empty()) throw Error(ErrorCode::kUnprocessable, "the room cloud is empty (no keyframe, or no depth within max_range_m)", "keyframes");
 
   // 2. Segments (outside any transaction).
   const auto t0 = std::chrono::steady_clock::now();
-  const seg::SegmentationResult result = seg::SegmentFurniture(cloud, r.params);
-  SegmentationOutcome out;
+  const seg::SegmentationResult result = seg::SegmentFurniture(cloud, params);
+  out.bridges_cut = result.bridges_cut;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.input_points = result.input_points;
   out.thinned_points = result.thinned_points;
@@ -248,7 +324,7 @@ SegmentationOutcome RunSegmentation(const FurnitureSegmentationService::Core& co
   for (const seg::FurnitureSegment& s : result.segments) {
     classified.push_back({Classify(s, result.floor_z_m, category_ids_, model.get()), EvidenceOf(s, cameras, r.max_range_m)});
   }
-  const std::string classifier = model ? "shape_model:" + *r.shape_model : "geometry";
+  const std::string classifier = model ? "shape_model:" + *model_name : "geometry";
 
   // 3. Instances, in one write.
   const std::int64_t now = clock_.NowNs();

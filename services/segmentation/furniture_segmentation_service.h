@@ -1,13 +1,16 @@
 #pragma once
 // Furniture the robot finds itself (thesis 5.3.1, issue 16): a room cloud (the map's keyframes merged in the map
-// frame, or the OctoMap's occupied voxel centres) is segmented (engine/segmentation), every segment classified
-// (a 3D shape model in verification mode when one is named, else by its gross shape,
+// frame, the OctoMap's occupied voxel centres, or a PCD / PLY cloud the client sends) is segmented
+// (engine/segmentation), every segment classified (the named 3D shape model in verification mode, else the newest
+// stored shape model, else by its gross shape alone,
 // engine/segmentation/geometric_categories.h) and written as a furniture instance: a new one, or an update of the
 // perceived piece its footprint overlaps (p(f) averaged over the observations, the newest geometry and cloud, the
 // evidence keyframes joined). A piece an operator entered is never changed. The work runs as a job
 // ("furniture_segment"); its result lists the segments.
 #include <functional>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -29,16 +32,26 @@ namespace anchordb::services {
 // (services/segmentation/shape_verification.cc; all zero when no ray voted).
 std::vector<std::pair<std::string, double>> VerifySegment(const engine::ShapeModel& model, const std::vector<Eigen::Vector3f>& points_m);
 
+// What segmentation reads from other capabilities (composed in services/common/capabilities.cc). Each may be empty:
+// then that source or model is not available.
+struct SegmentationLinks {
+  // The stored shape model of a name (nullptr: no such model).
+  std::function<std::shared_ptr<const engine::ShapeModel>(const std::string&)> shape_model;
+  // The name of the newest stored shape model (nullopt: none is stored).
+  std::function<std::optional<std::string>()> newest_shape_model;
+  // The map's OctoMap as occupied voxel centres (nullopt: the map has no tree).
+  std::function<std::optional<OccupiedCloud>(const std::string& map)> octomap;
+};
+
 class FurnitureSegmentationService {
  public:
-  // The stored shape model of a name (nullopt: no such model). May be empty: then naming a model is kNotFound.
-  using ShapeModelLookup = std::function<std::shared_ptr<const engine::ShapeModel>(const std::string&)>;
   // `category_ids`: the grounding knowledge's categories (p(f) is over these).
   FurnitureSegmentationService(storage::Store& store, JobService& jobs, std::vector<std::string> category_ids,
-                               const Clock& clock = SystemClock::Instance(), ShapeModelLookup lookup = {});
+                               const Clock& clock = SystemClock::Instance(), SegmentationLinks links = {});
 
-  // Checks the request (Error naming "params.<name>", "keyframes", "max_range_m", "match_iou", "shape_model") and
-  // queues the job. Unknown map kNotFound.
+  // Checks the request (Error naming "params.<name>", "keyframes", "max_range_m", "match_iou", "shape_model",
+  // "source"; for the cloud source "body": bytes that do not decode 400, an empty cloud or NaN points 422, more than
+  // `max_cloud_points` 413) and queues the job. Unknown map kNotFound.
   JobTicket Submit(const std::string& map, const SegmentationRequest& request);
   // What the job does, run here and now (tests, evaluations, benchmarks).
   SegmentationOutcome Run(const std::string& map, const SegmentationRequest& request,
@@ -50,12 +63,21 @@ class FurnitureSegmentationService {
   // The stored cloud of a perceived piece; an operator's piece has none (kUnprocessable).
   ExportedLayer Cloud(const std::string& map, std::int64_t id, engine::CloudFormat format);
 
+  static constexpr std::size_t kMaxCloudPoints = 4'000'000;  // a client's room cloud, and an OctoMap's voxels
+
+  // Room clouds of submitted cloud-source jobs, waiting in memory for their job (by staging number).
+  struct CloudStaging {
+    std::mutex mutex;
+    std::map<std::int64_t, std::vector<Eigen::Vector3f>> clouds;
+    std::int64_t next = 1;
+  };
   // What a run needs, shared with the job's runner (which may outlive this object while the job service stops).
   struct Core {
     storage::Store& store;
     std::vector<std::string> category_ids;
     const Clock& clock;
-    ShapeModelLookup lookup;
+    SegmentationLinks links;
+    std::shared_ptr<CloudStaging> staging = std::make_shared<CloudStaging>();
   };
 
  private:
@@ -64,9 +86,12 @@ class FurnitureSegmentationService {
   std::shared_ptr<Core> core_;
 };
 
-// The request as the job stores it, and back (services/segmentation/segmentation_request.cc).
-std::string SegmentationRequestDocument(const SegmentationRequest& r);
-SegmentationRequest SegmentationRequestFromDocument(const std::string& text);
+// The request as the job stores it, and back (services/segmentation/segmentation_request.cc); the cloud source's
+// points are not in it, only their `staging` number.
+std::string SegmentationRequestDocument(const SegmentationRequest& r, std::optional<std::int64_t> staging = std::nullopt);
+SegmentationRequest SegmentationRequestFromDocument(const std::string& text, std::optional<std::int64_t>* staging = nullptr);
+// The decoded room cloud of the cloud source (Error field "body" as Submit says).
+std::vector<Eigen::Vector3f> DecodeRoomCloud(const std::string& bytes, bool skip_nonfinite);
 // Throws Error naming the field for a value out of range.
 void CheckSegmentationRequest(const SegmentationRequest& r);
 

@@ -11,7 +11,16 @@
 
 namespace anchordb::services {
 
-enum class SegmentationSource { kKeyframes, kOctomap };
+// kKeyframes: the map's keyframes merged in the map frame; kOctomap: the map's OctoMap, its occupied voxels as
+// points (pruned voxels filled at the tree's resolution); kCloud: a room cloud the client sends (PCD or PLY).
+enum class SegmentationSource { kKeyframes, kOctomap, kCloud };
+
+// The occupied voxel centres of a map's OctoMap, at its resolution (what the octomap source segments).
+struct OccupiedCloud {
+  std::vector<Eigen::Vector3f> points_m;
+  double resolution_m = 0.05;
+  bool truncated = false;  // the tree held more occupied voxels than one listing gives
+};
 
 struct SegmentationRequest {
   SegmentationSource source = SegmentationSource::kKeyframes;
@@ -22,7 +31,15 @@ struct SegmentationRequest {
   std::vector<std::int64_t> keyframes;
   int max_keyframes = 200;
   double max_range_m = 3.5;  // depth beyond this is left out (the sensor's noise grows with the square of depth)
-  std::optional<std::string> shape_model;  // classify with this 3D shape model; none: by shape alone
+  // Classify with this stored 3D shape model (verification mode). None: with the newest stored shape model when
+  // there is one and `use_stored_shape_model`, else by shape alone.
+  std::optional<std::string> shape_model;
+  bool use_stored_shape_model = true;
+  // kCloud: the room cloud (map frame, metres) as PCD or PLY bytes; decoded and checked when the job is submitted
+  // and held in memory for it (not in the jobs table). With `skip_nonfinite` NaN / infinite points are left out;
+  // without, they are an error.
+  std::string cloud_bytes;
+  bool skip_nonfinite = false;
   double match_iou = 0.3;  // a segment whose footprint overlaps a known piece this much updates it
   engine::segmentation::SegmentationParams params;
 };
@@ -56,7 +73,11 @@ struct SegmentOutcome {
 };
 
 struct SegmentationOutcome {
+  std::string source;  // "keyframes" | "octomap" | "cloud"
+  std::optional<std::string> shape_model;  // the shape model that classified the segments (none: by shape alone)
+  bool octomap_truncated = false;  // the octomap source gave only part of its occupied voxels
   std::size_t input_points = 0, thinned_points = 0, remaining_points = 0;
+  int bridges_cut = 0;
   std::vector<std::string> planes;  // roles, in the order found
   int small_clusters = 0, flying_dropped = 0;
   std::optional<double> floor_z_m;

@@ -217,6 +217,24 @@ std::shared_ptr<const engine::ShapeModel> ShapeService::Model(const std::string&
   return model;
 }
 
+std::shared_ptr<const engine::ShapeModel> ShapeService::Find(const std::string& name) {
+  try {
+    return Model(name);
+  } catch (const Error& e) {
+    if (e.code() == ErrorCode::kNotFound) return nullptr;
+    throw;
+  }
+}
+
+std::optional<std::string> ShapeService::Newest() {
+  std::optional<std::string> name;
+  std::int64_t newest = 0;
+  for (const auto& r : store_.Read([](storage::Connection& c) { return storage::ListShapeModels(c); })) {
+    if (!name || r.created_ns > newest) name = r.name, newest = r.created_ns;
+  }
+  return name;
+}
+
 std::vector<Eigen::Vector3f> ShapeService::DecodeQuery(const std::string& body) const {
   return DecodePoints(body, settings_.max_points, "body");
 }

@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,10 @@ class ShapeService {
   // cloud or non-finite points: kUnprocessable ("body").
   ShapeClassification Classify(const std::string& name, const std::string& body);
   ShapeDetections Detect(const std::string& name, const std::string& body);
+  // The decoded stored model of a name (cached while its row is unchanged); nullptr when there is none.
+  std::shared_ptr<const engine::ShapeModel> Find(const std::string& name);
+  // The name of the most recently trained stored model; nullopt when none is stored.
+  std::optional<std::string> Newest();
 
  private:
   std::shared_ptr<const engine::ShapeModel> Model(const std::string& name);

@@ -1,6 +1,7 @@
 // Segmentation of furniture (thesis 5.3.1): bounding planes removed, pieces found as clusters, flying parts merged.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -145,6 +146,54 @@ TEST(SegmentationTest, FlyingClusterMergesIntoTheClusterBelow) {
   EXPECT_EQ(r.flying_dropped, 1);
   EXPECT_NEAR(r.segments[0].footprint.max_z_m, 0.95, 0.03);
   EXPECT_TRUE(r.segments[0].touches_floor);
+}
+
+TEST(SegmentationTest, BridgeOfFlyingPixelsIsCutBetweenTwoPieces) {
+  // A floor, a wall and two cabinets 0.4 m apart, joined by three thin trails of flying pixels (one point per
+  // voxel, the mixed depths a Kinect reports across the gap): one Euclidean cluster, two pieces.
+  std::vector<Eigen::Vector3f> cloud;
+  const float step = 0.02f;
+  for (float x = -2.0f; x <= 2.0f; x += step) {
+    for (float y = -2.0f; y <= 2.0f; y += step) cloud.emplace_back(x, y, 0.0f);
+  }
+  for (float y = -2.0f; y <= 2.0f; y += step) {
+    for (float z = 0.0f; z <= 2.0f; z += step) cloud.emplace_back(2.0f, y, z);
+  }
+  const auto box = [&](Eigen::Vector3f lo, Eigen::Vector3f hi) {
+    for (float x = lo.x(); x <= hi.x(); x += step) {
+      for (float y = lo.y(); y <= hi.y(); y += step) cloud.emplace_back(x, y, hi.z());
+      for (float z = lo.z(); z <= hi.z(); z += step) cloud.emplace_back(x, lo.y(), z), cloud.emplace_back(x, hi.y(), z);
+    }
+    for (float y = lo.y(); y <= hi.y(); y += step) {
+      for (float z = lo.z(); z <= hi.z(); z += step) cloud.emplace_back(lo.x(), y, z), cloud.emplace_back(hi.x(), y, z);
+    }
+  };
+  box({-1.0f, -0.5f, 0.0f}, {-0.4f, 0.5f, 0.7f});
+  box({0.0f, -0.5f, 0.0f}, {0.6f, 0.5f, 0.7f});
+  for (const float y : {-0.29f, 0.01f, 0.31f}) {
+    for (float x = -0.39f; x < 0.0f; x += step) cloud.emplace_back(x, y, 0.35f);
+  }
+  SegmentationParams no_split;
+  no_split.core_density = 0.0;
+  const SegmentationResult joined = SegmentFurniture(cloud, no_split);
+  ASSERT_EQ(joined.segments.size(), 1u);  // without the cut the trails hold the two cabinets together
+  const SegmentationResult r = SegmentFurniture(cloud);
+  EXPECT_EQ(r.bridges_cut, 1);
+  ASSERT_EQ(r.segments.size(), 2u);
+  std::vector<double> centres = {r.segments[0].footprint.centre_m.x(), r.segments[1].footprint.centre_m.x()};
+  std::sort(centres.begin(), centres.end());
+  EXPECT_NEAR(centres[0], -0.7, 0.12);
+  EXPECT_NEAR(centres[1], 0.3, 0.12);
+  for (const FurnitureSegment& s : r.segments) {
+    EXPECT_TRUE(s.touches_floor);
+    EXPECT_NEAR(s.footprint.max_z_m, 0.7, 0.03);
+  }
+  // Footprints each ~0.6 x 1.0 m with at most half of the 0.4 m trail: each matches its cabinet.
+  Footprint a, b;
+  a.centre_m = Eigen::Vector2d(-0.7, 0.0), b.centre_m = Eigen::Vector2d(0.3, 0.0);
+  a.extent_m = b.extent_m = Eigen::Vector2d(1.0, 0.6);
+  a.yaw_rad = b.yaw_rad = std::numbers::pi / 2;
+  for (const FurnitureSegment& s : r.segments) EXPECT_GE(std::max(FootprintIoU(s.footprint, a), FootprintIoU(s.footprint, b)), 0.6);
 }
 
 TEST(SegmentationTest, WallWithAnOpeningIsRemovedByItsSize) {

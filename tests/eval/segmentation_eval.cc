@@ -43,9 +43,10 @@ seg::Footprint Truth(const sim::PlacedPiece& p) {
 }
 
 void Score(const std::vector<sim::PlacedPiece>& pieces, const std::vector<Eigen::Vector3f>& cloud, SegmentationScore& s,
-           const std::string& room_name) {
+           const std::string& room_name, const seg::SegmentationParams& params) {
   const auto t0 = std::chrono::steady_clock::now();
-  const seg::SegmentationResult r = seg::SegmentFurniture(cloud);
+  const seg::SegmentationResult r = seg::SegmentFurniture(cloud, params);
+  s.bridges_cut += r.bridges_cut;
   s.seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   s.cloud_points.push_back(cloud.size());
   ++s.rooms;
@@ -81,7 +82,7 @@ void Score(const std::vector<sim::PlacedPiece>& pieces, const std::vector<Eigen:
 
 }  // namespace
 
-SegmentationScore EvaluateBoxRooms(int rooms, std::uint64_t seed0) {
+SegmentationScore EvaluateBoxRooms(int rooms, std::uint64_t seed0, const seg::SegmentationParams& params) {
   SegmentationScore s;
   const PinholeIntrinsics K = sim::KinectIntrinsics();
   for (int k = 0; k < rooms; ++k) {
@@ -96,12 +97,13 @@ SegmentationScore EvaluateBoxRooms(int rooms, std::uint64_t seed0) {
       const auto points = engine::BackProjectRaw(f.depth_mm, 1000.0, K, room.X_WorldCamera[v]);
       cloud.insert(cloud.end(), points.begin(), points.end());
     }
-    Score(room.pieces, cloud, s, "box room " + std::to_string(seed));
+    Score(room.pieces, cloud, s, "box room " + std::to_string(seed), params);
   }
   return s;
 }
 
-std::optional<SegmentationScore> EvaluateMeshRooms(int rooms, std::uint64_t seed0, const std::string& dir) {
+std::optional<SegmentationScore> EvaluateMeshRooms(int rooms, std::uint64_t seed0, const std::string& dir,
+                                                   const seg::SegmentationParams& params) {
   // The box room's places, each piece replaced by a mesh of its category (the wardrobe by the Wardrobe mesh of the
   // 'cupboard' folder: the grounding table has a wardrobe category).
   struct Choice {
@@ -182,12 +184,12 @@ std::optional<SegmentationScore> EvaluateMeshRooms(int rooms, std::uint64_t seed
       const auto points = engine::BackProjectRaw(depth, 1000.0, K, room.X_WorldCamera[v]);
       cloud.insert(cloud.end(), points.begin(), points.end());
     }
-    Score(pieces, cloud, s, "mesh room " + std::to_string(seed));
+    Score(pieces, cloud, s, "mesh room " + std::to_string(seed), params);
   }
   return s;
 }
 
-LostKeyScore EvaluateLostKey(int runs, std::uint64_t seed0) {
+LostKeyScore EvaluateLostKey(int runs, std::uint64_t seed0, std::optional<double> core_density) {
   LostKeyScore out;
   for (int k = 0; k < runs; ++k) {
     testing::TempDir dir;
@@ -198,6 +200,7 @@ LostKeyScore EvaluateLostKey(int runs, std::uint64_t seed0) {
     o.seed = seed0 + static_cast<std::uint64_t>(k);
     o.enter_furniture = false;
     o.segment_furniture = true;
+    if (core_density) o.segmentation_params = {{"core_density", *core_density}};
     const sim::LostKeyResult r = sim::RunLostKeyScenario(client, o);
     ++out.runs;
     const std::string sentence = r.where.value("sentence", std::string());

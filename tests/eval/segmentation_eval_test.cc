@@ -22,5 +22,15 @@ TEST(SegmentationEval, LostKeyNamesTheDetectedTable) {
   EXPECT_EQ(s.named_table, s.runs);
 }
 
+// Acceptance 2 of issue 16 is 18 of 20 seeded runs (anchordb_eval_segmentation prints all 20); in these two of them
+// flying pixels bridged the table to its neighbour into one segment (called sofa) before segmentation cut such
+// bridges (with params.core_density = 0 both fail: "The keys are on the sofa.").
+TEST(SegmentationEval, LostKeySeeds10To11NameTheDetectedTable) {
+  const LostKeyScore s = EvaluateLostKey(2, 10);
+  for (std::size_t i = 0; i < s.sentences.size(); ++i) std::printf("  seed %zu: %s [%s]\n", 10 + i, s.sentences[i].c_str(), s.segments[i].c_str());
+  ASSERT_EQ(s.runs, 2);
+  EXPECT_GE(s.named_table * 20, 18 * s.runs);  // 18 / 20 of the runs, here both
+}
+
 }  // namespace
 }  // namespace anchordb::eval
