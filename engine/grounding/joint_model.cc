@@ -7,7 +7,7 @@
 namespace anchordb::engine::grounding {
 namespace {
 
-std::size_t Idx(int v) { return static_cast<std::size_t>(v); }
+std::size_t JointIdx(int v) { return static_cast<std::size_t>(v); }
 
 double SafeLog(double p) { return std::log(std::max(p, std::numeric_limits<double>::min())); }
 
@@ -20,36 +20,36 @@ JointDescriptionTerms JointTerms(const FurnitureGraph& graph, const Knowledge& k
   JointDescriptionTerms t;
   t.nature = knowledge.categories[d.reference].nature;
   for (int o = 0; o < kOrientationCount; ++o) {
-    t.intrinsic_relative[Idx(o)] = IntrinsicToRelative(d.relation, t.nature, static_cast<Orientation>(o));
+    t.intrinsic_relative[JointIdx(o)] = IntrinsicToRelative(d.relation, t.nature, static_cast<Orientation>(o));
   }
   const int directed_count = graph.DirectedEdgeCount();
-  t.log_proximity.assign(Idx(directed_count), 0.0);
-  t.relative_fit.assign(Idx(directed_count), 0.0);
-  t.intrinsic_fit.assign(Idx(directed_count), {});
+  t.log_proximity.assign(JointIdx(directed_count), 0.0);
+  t.relative_fit.assign(JointIdx(directed_count), 0.0);
+  t.intrinsic_fit.assign(JointIdx(directed_count), {});
   // P(reference | located) over the located piece's edges, by the softmax of -gap / scale.
   const double scale = std::max(params.proximity_scale_m, 1e-6);
   std::vector<double> nearest(graph.vertices.size(), std::numeric_limits<double>::infinity());
   for (const Edge& e : graph.edges) {
-    nearest[Idx(e.a)] = std::min(nearest[Idx(e.a)], e.gap_m);
-    nearest[Idx(e.b)] = std::min(nearest[Idx(e.b)], e.gap_m);
+    nearest[JointIdx(e.a)] = std::min(nearest[JointIdx(e.a)], e.gap_m);
+    nearest[JointIdx(e.b)] = std::min(nearest[JointIdx(e.b)], e.gap_m);
   }
   std::vector<double> normaliser(graph.vertices.size(), 0.0);
   for (const Edge& e : graph.edges) {
-    normaliser[Idx(e.a)] += std::exp(-(e.gap_m - nearest[Idx(e.a)]) / scale);
-    normaliser[Idx(e.b)] += std::exp(-(e.gap_m - nearest[Idx(e.b)]) / scale);
+    normaliser[JointIdx(e.a)] += std::exp(-(e.gap_m - nearest[JointIdx(e.a)]) / scale);
+    normaliser[JointIdx(e.b)] += std::exp(-(e.gap_m - nearest[JointIdx(e.b)]) / scale);
   }
   const double w = params.line_of_sight_weight;
   for (int e = 0; e < directed_count; ++e) {
-    const Edge& edge = graph.edges[Idx(e / 2)];
+    const Edge& edge = graph.edges[JointIdx(e / 2)];
     const int a = graph.Located(e);
-    t.log_proximity[Idx(e)] = -(edge.gap_m - nearest[Idx(a)]) / scale - std::log(normaliser[Idx(a)]);
+    t.log_proximity[JointIdx(e)] = -(edge.gap_m - nearest[JointIdx(a)]) / scale - std::log(normaliser[JointIdx(a)]);
     const Distribution4& visual = graph.Visual(e);
-    const Distribution4& sight = edge.line_of_sight[Idx(e % 2)];
-    const std::size_t r = Idx(static_cast<int>(d.relation));
-    t.relative_fit[Idx(e)] = Slacked((1.0 - w) * visual[r] + w * sight[r], params.edge_fit_slack);
+    const Distribution4& sight = edge.line_of_sight[JointIdx(e % 2)];
+    const std::size_t r = JointIdx(static_cast<int>(d.relation));
+    t.relative_fit[JointIdx(e)] = Slacked((1.0 - w) * visual[r] + w * sight[r], params.edge_fit_slack);
     for (int o = 0; o < kOrientationCount; ++o) {
-      t.intrinsic_fit[Idx(e)][Idx(o)] =
-          Slacked(visual[Idx(static_cast<int>(t.intrinsic_relative[Idx(o)]))], params.edge_fit_slack);
+      t.intrinsic_fit[JointIdx(e)][JointIdx(o)] =
+          Slacked(visual[JointIdx(static_cast<int>(t.intrinsic_relative[JointIdx(o)]))], params.edge_fit_slack);
     }
   }
   return t;
@@ -88,8 +88,8 @@ void JointScores(const FurnitureGraph& graph, const Knowledge& knowledge, const 
   const FrameCounts counts = CountFrames(knowledge, parent.matches);
   const bool fronted = terms.nature != Nature::kNone;
   for (std::size_t v = 0; v < n; ++v) {
-    log_located[v] = SafeLog(NamingProbability(s.category[v * Idx(k) + Idx(d.located)], k, jp.naming_noise));
-    log_reference[v] = SafeLog(NamingProbability(s.category[v * Idx(k) + Idx(d.reference)], k, jp.naming_noise));
+    log_located[v] = SafeLog(NamingProbability(s.category[v * JointIdx(k) + JointIdx(d.located)], k, jp.naming_noise));
+    log_reference[v] = SafeLog(NamingProbability(s.category[v * JointIdx(k) + JointIdx(d.reference)], k, jp.naming_noise));
     const double* p_o = &s.orientation[v * kOrientationCount];
     double p_relative = 0.0;
     for (int o = 0; o < kOrientationCount; ++o) {
@@ -99,27 +99,27 @@ void JointScores(const FurnitureGraph& graph, const Knowledge& knowledge, const 
       const double pi_r = fronted ? IntrinsicPreference(mean_r, counts, jp.frame_prior_strength) : mean_r;
       p_relative += p_o[o] * (1.0 - pi_r);
       const double mean_i = knowledge.prior.Probability(scheme, Frame::kIntrinsic, terms.nature, orient,
-                                                        terms.intrinsic_relative[Idx(o)]);
+                                                        terms.intrinsic_relative[JointIdx(o)]);
       const double pi_i = fronted ? IntrinsicPreference(mean_i, counts, jp.frame_prior_strength) : mean_i;
-      p_intrinsic_frame[v][Idx(o)] = pi_i * p_o[o];
-      log_intrinsic[v][Idx(o)] = SafeLog(pi_i * p_o[o]);
+      p_intrinsic_frame[v][JointIdx(o)] = pi_i * p_o[o];
+      log_intrinsic[v][JointIdx(o)] = SafeLog(pi_i * p_o[o]);
     }
     log_relative_frame[v] = SafeLog(p_relative);
   }
   const int directed_count = graph.DirectedEdgeCount();
-  out.resize(Idx(directed_count * kInterpretationCount));
+  out.resize(JointIdx(directed_count * kInterpretationCount));
   for (int e = 0; e < directed_count; ++e) {
-    const std::size_t a = Idx(graph.Located(e)), b = Idx(graph.Reference(e));
-    const double base = log_located[a] + log_reference[b] + terms.log_proximity[Idx(e)];
-    InterpretationScore* x = &out[Idx(e * kInterpretationCount)];
+    const std::size_t a = JointIdx(graph.Located(e)), b = JointIdx(graph.Reference(e));
+    const double base = log_located[a] + log_reference[b] + terms.log_proximity[JointIdx(e)];
+    InterpretationScore* x = &out[JointIdx(e * kInterpretationCount)];
     x[0].relative = d.relation;
-    x[0].rho = std::exp(log_relative_frame[b]) * terms.relative_fit[Idx(e)];
-    x[0].score = base + log_relative_frame[b] + SafeLog(terms.relative_fit[Idx(e)]);
+    x[0].rho = std::exp(log_relative_frame[b]) * terms.relative_fit[JointIdx(e)];
+    x[0].score = base + log_relative_frame[b] + SafeLog(terms.relative_fit[JointIdx(e)]);
     for (int o = 0; o < kOrientationCount; ++o) {
-      const double fit = terms.intrinsic_fit[Idx(e)][Idx(o)];
-      x[o + 1].relative = terms.intrinsic_relative[Idx(o)];
-      x[o + 1].rho = p_intrinsic_frame[b][Idx(o)] * fit;
-      x[o + 1].score = base + log_intrinsic[b][Idx(o)] + SafeLog(fit);
+      const double fit = terms.intrinsic_fit[JointIdx(e)][JointIdx(o)];
+      x[o + 1].relative = terms.intrinsic_relative[JointIdx(o)];
+      x[o + 1].rho = p_intrinsic_frame[b][JointIdx(o)] * fit;
+      x[o + 1].score = base + log_intrinsic[b][JointIdx(o)] + SafeLog(fit);
     }
   }
 }
@@ -132,7 +132,7 @@ void JointCategoryUpdate(const FurnitureGraph& graph, GraphState& state, const D
   const int described[2] = {d.located, d.reference};
   const double other = k > 1 ? naming_noise / (k - 1) : 0.0;
   for (int i = 0; i < 2; ++i) {
-    double* row = &state.category[Idx(vertices[i] * k)];
+    double* row = &state.category[JointIdx(vertices[i] * k)];
     double sum = 0.0;
     for (int c = 0; c < k; ++c) sum += row[c] *= c == described[i] ? 1.0 - naming_noise : other;
     if (sum > 0.0) {
@@ -147,16 +147,16 @@ GraphState JointApplyMatch(const FurnitureGraph& graph, const GraphState& state,
   GraphState out = state;
   if (categories) JointCategoryUpdate(graph, out, d, match, params.joint.naming_noise, params.category_floor, earlier);
   Distribution4 relation{};
-  relation[Idx(static_cast<int>(match.relative))] = 1.0;
-  DampedUpdate(&out.relation[Idx(match.directed_edge * kRelationCount)], relation.data(), kRelationCount, params.sigma);
+  relation[JointIdx(static_cast<int>(match.relative))] = 1.0;
+  DampedUpdate(&out.relation[JointIdx(match.directed_edge * kRelationCount)], relation.data(), kRelationCount, params.sigma);
   if (FrameOf(match.interpretation) == Frame::kIntrinsic) {
     const Nature nature = knowledge.categories[d.reference].nature;
     const Distribution4& visual = graph.Visual(match.directed_edge);
-    double* p_o = &out.orientation[Idx(graph.Reference(match.directed_edge) * kOrientationCount)];
+    double* p_o = &out.orientation[JointIdx(graph.Reference(match.directed_edge) * kOrientationCount)];
     double sum = 0.0;
     for (int o = 0; o < kOrientationCount; ++o) {
       const Relation r = IntrinsicToRelative(d.relation, nature, static_cast<Orientation>(o));
-      sum += p_o[o] *= Slacked(visual[Idx(static_cast<int>(r))], params.joint.edge_fit_slack);
+      sum += p_o[o] *= Slacked(visual[JointIdx(static_cast<int>(r))], params.joint.edge_fit_slack);
     }
     if (sum > 0.0) {
       for (int o = 0; o < kOrientationCount; ++o) p_o[o] /= sum;
