@@ -117,7 +117,7 @@ Console.views.layers = {
           ctx.lineTo(x + 8 * Math.cos(a.heading_rad), y - 8 * Math.sin(a.heading_rad)); ctx.strokeStyle = '#fff'; ctx.stroke();
           try {
             const att = await Api.get(M() + '/attention?agent=' + encodeURIComponent(a.id || a.agent) + '&layer=' + encodeURIComponent(l.name));
-            caption.append(el('div', {}, 'person ' + (a.id || a.agent) + (att.attending ? ' attends region ' + att.region.id : ' attends nothing')));
+            caption.append(el('div', {}, 'agent "' + (a.id || a.agent) + '"' + (att.attending ? ' attends region ' + att.region.id : ' attends nothing')));
           } catch (e) { /* no attention for this layer */ }
         }
       }
@@ -188,9 +188,11 @@ Console.views.events = {
     const tl = $('#timeline');
     tl.replaceChildren();
     if (page.events.length) {
-      const lo = Number(page.events[0].stamp_ns), hi = Number(page.events[page.events.length - 1].stamp_ns);
+      // Ids are not in time order: the scale spans the page's earliest and latest stamps.
+      const stamps = page.events.map(e => Number(e.stamp_ns));
+      const lo = Math.min(...stamps), hi = Math.max(...stamps);
       for (const e of page.events) {
-        const x = hi > lo ? (Number(e.stamp_ns) - lo) / (hi - lo) : 0.5;
+        const x = hi > lo ? Math.min(1, Math.max(0, (Number(e.stamp_ns) - lo) / (hi - lo))) : 0.5;
         tl.append(el('span', { class: 't-' + e.type, style: 'left:' + (x * 99).toFixed(2) + '%', title: e.type + ' ' + e.id }));
       }
     }
@@ -281,6 +283,7 @@ Console.views.instances = {
   async edit(method, path, body, id) {
     try {
       if (method === 'DELETE') await Api.del(M() + path); else await Api.post(M() + path, body);
+      $('#where-answer').replaceChildren();  // its sentence may name the old label or a deleted instance
       Console.status('instance ' + id + ': done');
       await this.show();
     } catch (e) { Console.fail(e); }
@@ -307,6 +310,8 @@ $('#where-form').addEventListener('submit', async ev => {
 });
 
 // ---- Furniture graphs -----------------------------------------------------------------------------------------------
+// A hypothesis's last match (api/furniture_json.cc MatchJson): which relation it saw between which pieces, in which frame.
+const matchText = m => m ? m.located + ' ' + m.relation_seen + ' ' + m.reference + ' (' + m.frame + ' frame, ' + m.score.toFixed(3) + ')' : '';
 Console.views.furniture = {
   async show() {
     const graphs = (await Api.get(M() + '/furniture-graphs?limit=100')).furniture_graphs;
@@ -372,8 +377,10 @@ Console.views.furniture = {
     });
     $('#graph-detail').replaceChildren(el('h3', {}, 'graph ' + id + ': ' + g.vertices.length + ' pieces, ' + g.edges.length + ' edges'),
       Images.figure(big, 'best hypothesis labels; edges with relations'), el('h4', {}, 'n-best hypotheses'),
-      el('table', { class: 'table', id: 'hypotheses' }, el('tr', {}, el('th', {}, 'rank'), el('th', {}, 'score'), el('th', {}, 'labels')),
-        ...hyp.hypotheses.map(h => el('tr', {}, el('td', {}, String(h.rank)), el('td', {}, h.score.toFixed(3)), el('td', {}, JSON.stringify(h.labels))))),
+      el('table', { class: 'table', id: 'hypotheses' }, el('tr', {}, el('th', {}, 'rank'), el('th', {}, 'score'), el('th', {}, 'scheme'),
+        el('th', {}, 'last match'), el('th', {}, 'labels')),
+        ...hyp.hypotheses.map(h => el('tr', { 'data-rank': String(h.rank) }, el('td', {}, String(h.rank)), el('td', {}, h.score.toFixed(3)),
+          el('td', { class: 'scheme' }, h.scheme), el('td', { class: 'last-match' }, matchText(h.last_match)), el('td', {}, JSON.stringify(h.labels))))),
       el('h4', {}, 'descriptions'), el('ol', {}, ...g.groundings.map(d => el('li', {}, d.input ? (d.input.text || (d.input.located + ' ' + d.input.relation + ' ' + d.input.reference)) : JSON.stringify(d)))),
       describe, speak, said);
     Console.applyRole();

@@ -177,6 +177,15 @@ class ConsoleBrowserTest(unittest.TestCase):
 
     # ------------------------------------------------------------------ views
 
+    def assert_timeline_on_screen(self):
+        # Every tick inside the timeline box (the page's earliest stamp at 0 %, its latest at 99 %), and no tick
+        # widens the page: no horizontal scrollbar.
+        lefts = self.js("return [...document.querySelectorAll('#timeline span')].map(s => parseFloat(s.style.left));")
+        self.assertTrue(lefts and all(0.0 <= x <= 99.0 for x in lefts), lefts)
+        self.assertEqual((min(lefts), max(lefts)) if len(set(lefts)) > 1 else (0.0, 99.0), (0.0, 99.0), lefts)
+        widths = self.js("return [document.documentElement.scrollWidth, document.documentElement.clientWidth];")
+        self.assertLessEqual(widths[0], widths[1], "horizontal scrollbar: scrollWidth %d > clientWidth %d" % tuple(widths))
+
     def test_1_layers_show_every_layer_decoded_with_regions_and_legend(self):
         self.open("layers")
         layers = self.admin.list_layers("home")["layers"]
@@ -213,7 +222,11 @@ class ConsoleBrowserTest(unittest.TestCase):
         legend = self.js("return [...document.querySelectorAll('#layers .categories tr[data-label]')].map("
                          "r => [r.dataset.label, r.cells[1].textContent, r.cells[2].textContent]);")
         self.assertEqual(legend, [[k, "%s %s" % (k, rooms["labels"][k]), str(v)] for k, v in sorted(per_label.items())])
-        self.assertIn("person person attends", self.driver.find_element(By.ID, "layers").text)
+        # The tracked agent's attention on the probability layer, as the API answers it (the id is quoted, not prefixed).
+        att = self.admin.request("GET", "/v1/maps/home/attention?agent=person&layer=attention")
+        self.assertTrue(att["attending"], att)
+        self.assertIn('agent "person" attends region %d' % att["region"]["id"], self.driver.find_element(By.ID, "layers").text)
+        self.assertNotIn("person person", self.driver.find_element(By.ID, "layers").text)
         # Ranked viewpoints around the surface the person attends, from the page (a reader's POST).
         expected = self.admin.viewpoints("home", [0.0, 0.0], "person", "attention")["viewpoints"]
         self.js("document.querySelector('#viewpoint-form [name=robot]').value = '0,0';")
@@ -294,6 +307,7 @@ class ConsoleBrowserTest(unittest.TestCase):
         self.wait(lambda d: len(d.find_elements(By.CSS_SELECTOR, "#event-table tbody tr")) == min(50, len(events)),
                   "event rows")
         self.assertEqual(len(self.driver.find_elements(By.CSS_SELECTOR, "#timeline span")), min(50, len(events)))
+        self.assert_timeline_on_screen()
         with_evidence = next(e for e in events if e["evidence"] and e["type"] != "labelled")
         self.driver.find_element(By.CSS_SELECTOR, '#event-table tr[data-event="%d"]' % with_evidence["id"]).click()
         self.wait(lambda d: len(d.find_elements(By.CSS_SELECTOR, "#event-detail canvas")) == 2 * len(with_evidence["evidence"]),
@@ -334,6 +348,9 @@ class ConsoleBrowserTest(unittest.TestCase):
         got = self.admin.request("GET", "/v1/maps/home/instances/%d" % keys)
         self.assertEqual(got["labels"], {"house keys": 1.0})
         self.assertTrue(got["label_locked"])
+        # The where-is answer of before the relabel is gone (its sentence named the old label).
+        self.assertEqual(self.driver.find_element(By.ID, "where-answer").text, "")
+        self.assertEqual(self.driver.find_elements(By.ID, "where-map"), [])
         # Later automatic processing: every keyframe re-analysed against the newest background, and dialog trying
         # another label; the operator's label stays.
         reanalysed = 0
@@ -355,6 +372,19 @@ class ConsoleBrowserTest(unittest.TestCase):
         hyp = self.admin.request("GET", "/v1/maps/home/furniture-graphs/1/hypotheses?limit=5")["hypotheses"]
         self.wait(lambda d: d.find_elements(By.ID, "graph-canvas") and
                   len(d.find_elements(By.CSS_SELECTOR, "#hypotheses tr")) == len(hyp) + 1, "graph and hypotheses")
+        # Each hypothesis's scheme and last match, as the API reports them.
+        rows = self.js("return [...document.querySelectorAll('#hypotheses tr[data-rank]')].map(r => "
+                       "[Number(r.dataset.rank), r.querySelector('.scheme').textContent, r.querySelector('.last-match').textContent]);")
+        self.assertEqual([r[:2] for r in rows], [[h["rank"], h["scheme"]] for h in hyp])
+        for (rank, _, match), h in zip(rows, hyp):
+            m = h["last_match"]
+            if m is None:
+                self.assertEqual(match, "", rank)
+                continue
+            head = "%s %s %s (%s frame, " % (m["located"], m["relation_seen"], m["reference"], m["frame"])
+            self.assertTrue(match.startswith(head) and match.endswith(")"), (rank, match, m))
+            self.assertAlmostEqual(float(match[len(head):-1]), m["score"], delta=0.0006)
+        print(json.dumps({"hypotheses": [[h["rank"], h["scheme"], round(h["score"], 3)] for h in hyp]}))
         w = self.js("return document.getElementById('graph-canvas').width;")
         self.assertEqual(w, 120 * 3)  # the floor plan, drawn 3x
         self.assertIn("left of the table", self.driver.find_element(By.ID, "graph-detail").text)
@@ -423,6 +453,7 @@ class ConsoleBrowserTest(unittest.TestCase):
         self.assertLess(best, 1000.0)
         self.driver.find_element(By.ID, "events-next").click()
         self.wait(lambda d: d.find_element(By.ID, "events-page").text.startswith("50 events after id 5"), "second page")
+        self.assert_timeline_on_screen()
         self.shot("09-events-10000")
 
     def test_9_operator_deletes_a_wrong_event_from_the_timeline(self):
