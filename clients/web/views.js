@@ -191,10 +191,10 @@ Console.views.events = {
       // Ids are not in time order: the scale spans the page's earliest and latest stamps.
       const stamps = page.events.map(e => Number(e.stamp_ns));
       const lo = Math.min(...stamps), hi = Math.max(...stamps);
-      for (const e of page.events) {
-        const x = hi > lo ? Math.min(1, Math.max(0, (Number(e.stamp_ns) - lo) / (hi - lo))) : 0.5;
+      page.events.forEach((e, i) => {
+        const x = hi > lo ? (stamps[i] - lo) / (hi - lo) : 0.5;
         tl.append(el('span', { class: 't-' + e.type, style: 'left:' + (x * 99).toFixed(2) + '%', title: e.type + ' ' + e.id }));
-      }
+      });
     }
     document.body.dataset.eventsMs = (performance.now() - t0).toFixed(1);  // this page's request and drawing
     document.body.dataset.eventsLoadedAt = performance.now().toFixed(1);    // since navigation start

@@ -182,7 +182,8 @@ class ConsoleBrowserTest(unittest.TestCase):
         # widens the page: no horizontal scrollbar.
         lefts = self.js("return [...document.querySelectorAll('#timeline span')].map(s => parseFloat(s.style.left));")
         self.assertTrue(lefts and all(0.0 <= x <= 99.0 for x in lefts), lefts)
-        self.assertEqual((min(lefts), max(lefts)) if len(set(lefts)) > 1 else (0.0, 99.0), (0.0, 99.0), lefts)
+        if len(set(lefts)) > 1:
+            self.assertEqual((min(lefts), max(lefts)), (0.0, 99.0), lefts)
         widths = self.js("return [document.documentElement.scrollWidth, document.documentElement.clientWidth];")
         self.assertLessEqual(widths[0], widths[1], "horizontal scrollbar: scrollWidth %d > clientWidth %d" % tuple(widths))
 
