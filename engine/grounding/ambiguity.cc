@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "engine/grounding/joint_model.h"
 #include "schema/error.h"
 
 namespace anchordb::engine::grounding {
@@ -54,6 +55,8 @@ void SettleHeld(const FurnitureGraph& graph, HypothesisSet& set, std::size_t hel
   const HeldStep held = set.held.at(held_index);
   for (Hypothesis& h : set.ranked) {
     if (static_cast<std::size_t>(held.step) >= h.matches.size()) continue;
+    // The joint model counts a repeated reading once: its first occurrence carries the update (joint_model.h).
+    if (params.model == Model::kJoint && RepeatsEarlier(h.matches, static_cast<std::size_t>(held.step))) continue;
     // Confirmation by any other description of the sequence counts, earlier or later than the held one.
     std::vector<Match> others = h.matches;
     others.erase(others.begin() + held.step);

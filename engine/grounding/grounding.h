@@ -125,6 +125,7 @@ struct JointParams {
   double proximity_scale_m = 0.2;      // P(reference | located) ∝ exp(-gap / scale) over the located piece's edges [m]
   double frame_prior_strength = 5.0;   // pseudo-descriptions of the Beta prior over the speaker's frame preference
   double naming_noise = 0.05;          // P(a speaker names a piece by another category than its own), (0, 1)
+  double repeat_weight = 0.0;          // share of its own score a repeated reading adds (joint_model.h), [0, 1]
 };
 
 struct GroundingParams {

@@ -55,10 +55,24 @@ JointDescriptionTerms JointTerms(const FurnitureGraph& graph, const Knowledge& k
   return t;
 }
 
+bool SameReading(const Match& a, const Match& b) {
+  return a.located_category >= 0 && a.reference_category >= 0 && a.directed_edge >= 0 &&
+         a.directed_edge == b.directed_edge && a.interpretation == b.interpretation && a.relative == b.relative &&
+         a.located_category == b.located_category && a.reference_category == b.reference_category;
+}
+
+bool RepeatsEarlier(const std::vector<Match>& matches, std::size_t index) {
+  if (index >= matches.size()) return false;
+  const auto end = matches.begin() + static_cast<std::ptrdiff_t>(index);
+  return std::any_of(matches.begin(), end, [&](const Match& m) { return SameReading(m, matches[index]); });
+}
+
 FrameCounts CountFrames(const Knowledge& knowledge, const std::vector<Match>& matches) {
   FrameCounts c;
-  for (const Match& m : matches) {
+  for (std::size_t i = 0; i < matches.size(); ++i) {
+    const Match& m = matches[i];
     if (m.reference_category < 0 || knowledge.categories[m.reference_category].nature == Nature::kNone) continue;
+    if (RepeatsEarlier(matches, i)) continue;
     ++c.total;
     c.intrinsic += FrameOf(m.interpretation) == Frame::kIntrinsic;
   }
@@ -122,6 +136,12 @@ void JointScores(const FurnitureGraph& graph, const Knowledge& knowledge, const 
       x[o + 1].score = base + log_intrinsic[b][JointIdx(o)] + SafeLog(fit);
     }
   }
+  // A repeat of an earlier description read as the same pieces the same way counts once: it adds nothing.
+  for (const Match& m : parent.matches) {
+    if (m.located_category != d.located || m.reference_category != d.reference || m.directed_edge < 0) continue;
+    InterpretationScore& x = out[JointIdx(m.directed_edge * kInterpretationCount + m.interpretation)];
+    if (x.relative == m.relative) x.score *= jp.repeat_weight;
+  }
 }
 
 void JointCategoryUpdate(const FurnitureGraph& graph, GraphState& state, const Description& d, const Match& match,
@@ -145,6 +165,7 @@ GraphState JointApplyMatch(const FurnitureGraph& graph, const GraphState& state,
                            const Description& d, const Match& match, const GroundingParams& params, bool categories,
                            const std::vector<Match>& earlier) {
   GraphState out = state;
+  if (std::any_of(earlier.begin(), earlier.end(), [&](const Match& m) { return SameReading(m, match); })) return out;
   if (categories) JointCategoryUpdate(graph, out, d, match, params.joint.naming_noise, params.category_floor, earlier);
   Distribution4 relation{};
   relation[JointIdx(static_cast<int>(match.relative))] = 1.0;

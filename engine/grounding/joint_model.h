@@ -27,6 +27,13 @@
 // description of the sequence named the piece so — the rule of ApplyMatch), p(o) of the reference by Bayes with
 // L(word | edge, intrinsic, o) for every o after an intrinsic reading. p(r) of the directed edge moves towards r' by
 // eq. 5.4 (what a client is shown; the fit itself always uses the geometry). Scores are in nats (<= 0 per step).
+//
+// A repeat - the same words (categories and relation word) said again and read as the same pieces in the same way
+// as an earlier description of the hypothesis - is not independent evidence: it counts once. Its reading scores
+// 0 nats (the speaker repeating what it said), updates nothing and does not count again in the frame preference;
+// a reading of the repeated words as other pieces, or the same pieces in another frame, is scored as any
+// description. Without this a piece that one reading renamed fits every repetition of it for free, and a sequence
+// that repeats one description five times counts its naming five times.
 #include <array>
 #include <vector>
 
@@ -45,7 +52,14 @@ struct JointDescriptionTerms {
 JointDescriptionTerms JointTerms(const FurnitureGraph& graph, const Knowledge& knowledge, const Description& d,
                                  const JointParams& params);
 
-// Intrinsic and all readings of references with an intrinsic front among `matches` (the speaker's evidence).
+// Whether two matches read the same words as the same pieces the same way: directed edge, interpretation, r' and
+// both named categories equal (r' and the interpretation fix the word). Matches without recorded categories never do.
+bool SameReading(const Match& a, const Match& b);
+// Whether matches[index] repeats a match at a lower index (SameReading).
+bool RepeatsEarlier(const std::vector<Match>& matches, std::size_t index);
+
+// Intrinsic and all readings of references with an intrinsic front among `matches` (the speaker's evidence); a
+// repeat (RepeatsEarlier) is not counted again.
 struct FrameCounts {
   int intrinsic = 0;
   int total = 0;
@@ -65,7 +79,7 @@ void JointScores(const FurnitureGraph& graph, const Knowledge& knowledge, const 
                  std::vector<InterpretationScore>& out);
 
 // The joint model's update of `state` by `match` of `d` (see above); `categories` = false holds the category part
-// back (an ambiguous step).
+// back (an ambiguous step). A match that repeats one of `earlier` (SameReading) changes nothing.
 GraphState JointApplyMatch(const FurnitureGraph& graph, const GraphState& state, const Knowledge& knowledge,
                            const Description& d, const Match& match, const GroundingParams& params, bool categories,
                            const std::vector<Match>& earlier);
