@@ -84,7 +84,7 @@ void AddBase(const Json& j, const std::string& field, std::vector<engine::BaseSe
 
 services::TrainClassifierRequest ParseTrainClassifierRequest(const Json& body) {
   json::RejectUnknownKeys(body, {"name", "samples", "base", "rounds", "selection", "sample_factor", "folds", "seed", "update",
-                                 "unknown", "unknown_min_share"});
+                                 "error_on", "learning_rate", "unknown", "unknown_min_share"});
   services::TrainClassifierRequest r;
   r.name = json::RequireId(body, "name");
   const Json& samples = json::Require(body, "samples");
@@ -113,6 +113,8 @@ services::TrainClassifierRequest ParseTrainClassifierRequest(const Json& body) {
   if (seed < 0) throw Error(ErrorCode::kInvalidArgument, "seed must not be negative", "seed");
   r.seed = static_cast<std::uint64_t>(seed);
   if (auto update = json::OptionalString(body, "update", 16)) r.update = engine::ParseWeightUpdate(*update);
+  if (auto error_on = json::OptionalString(body, "error_on", 16)) r.error_on = engine::ParseErrorMeasure(*error_on);
+  r.learning_rate = json::FiniteNumberOr(body, "learning_rate", r.learning_rate);
   r.unknown = json::BoolOr(body, "unknown", false);
   r.unknown_min_share = json::FiniteNumberOr(body, "unknown_min_share", r.unknown_min_share);
   return r;

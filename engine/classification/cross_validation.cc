@@ -86,14 +86,23 @@ TrainingSet SubsetOf(const TrainingSet& data, const std::vector<int>& indices) {
 CrossValidationReport CrossValidate(const TrainingSet& data, const EsammeOptions& options,
                                     const std::vector<int>& fold_of_sample, const RoundCallback& callback) {
   ValidateTraining(data, options);
-  if (fold_of_sample.size() != data.labels.size()) {
+  return CrossValidatePerFold([&](int) -> const TrainingSet& { return data; }, options, fold_of_sample, callback);
+}
+
+CrossValidationReport CrossValidatePerFold(const std::function<TrainingSet(int fold)>& data_for_fold,
+                                           const EsammeOptions& options, const std::vector<int>& fold_of_sample,
+                                           const RoundCallback& callback) {
+  if (fold_of_sample.empty()) throw Error(ErrorCode::kInvalidArgument, "one fold per sample", "folds");
+  const TrainingSet first = data_for_fold(0);
+  ValidateTraining(first, options);
+  if (fold_of_sample.size() != first.labels.size()) {
     throw Error(ErrorCode::kInvalidArgument, "one fold per sample", "folds");
   }
   const int folds = fold_of_sample.empty() ? 0 : *std::max_element(fold_of_sample.begin(), fold_of_sample.end()) + 1;
   if (folds < 2 || *std::min_element(fold_of_sample.begin(), fold_of_sample.end()) < 0) {
     throw Error(ErrorCode::kInvalidArgument, "at least two folds, numbered from 0", "folds");
   }
-  const std::size_t k = data.class_names.size();
+  const std::size_t k = first.class_names.size();
   CrossValidationReport report;
   report.folds = folds;
   report.confusion.assign(k, std::vector<int>(k, 0));
@@ -102,6 +111,11 @@ CrossValidationReport CrossValidate(const TrainingSet& data, const EsammeOptions
   report.test_error_worst_fold_per_round.assign(static_cast<std::size_t>(options.rounds), 0.0);
   int wrong = 0, tested = 0;
   for (int f = 0; f < folds; ++f) {
+    const TrainingSet data = f == 0 ? first : data_for_fold(f);
+    if (data.labels != first.labels || data.class_names != first.class_names) {
+      throw Error(ErrorCode::kInvalidArgument, "every fold's set has the same samples and classes", "folds");
+    }
+    ValidateTraining(data, options);
     std::vector<int> train_idx, test_idx;
     for (std::size_t i = 0; i < fold_of_sample.size(); ++i) {
       (fold_of_sample[i] == f ? test_idx : train_idx).push_back(static_cast<int>(i));

@@ -3,6 +3,7 @@
 // matrix of the final models, and which classifier kinds, settings and feature types the rounds chose (figures 4.8,
 // 4.13, 4.15).
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -38,5 +39,12 @@ struct CrossValidationReport {
 // cancels (Error kConflict).
 CrossValidationReport CrossValidate(const TrainingSet& data, const EsammeOptions& options,
                                     const std::vector<int>& fold_of_sample, const RoundCallback& callback = {});
+
+// As CrossValidate, with the features of fold f's training and test samples taken from `data_for_fold(f)` (the same
+// samples, labels and classes for every f): for features that are themselves learned from the training samples, e.g.
+// bags of words over a codebook built from the training fold only. Each fold's set is validated as CrossValidate's.
+CrossValidationReport CrossValidatePerFold(const std::function<TrainingSet(int fold)>& data_for_fold,
+                                           const EsammeOptions& options, const std::vector<int>& fold_of_sample,
+                                           const RoundCallback& callback = {});
 
 }  // namespace anchordb::engine

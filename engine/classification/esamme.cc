@@ -66,6 +66,18 @@ std::vector<int> RouletteSelection(const std::vector<double>& w, int z, std::mt1
   return out;
 }
 
+// The weighted share of the mistakes among the samples that `skip` (empty: none) does not mark; NaN when those
+// samples carry no weight.
+double WeightedError(const std::vector<double>& w, const std::vector<bool>& mistakes, const std::vector<bool>& skip) {
+  double wrong = 0.0, total = 0.0;
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    if (!skip.empty() && skip[i]) continue;
+    total += w[i];
+    if (mistakes[i]) wrong += w[i];
+  }
+  return total > 0 ? wrong / total : std::numeric_limits<double>::quiet_NaN();
+}
+
 void CheckFinite(const FeatureMatrix& x, const std::string& field) {
   if (!x.allFinite()) throw Error(ErrorCode::kInvalidArgument, "features must be finite numbers", field);
 }
@@ -90,6 +102,14 @@ Selection ParseSelection(const std::string& name) {
 
 const char* WeightUpdateName(WeightUpdate u) { return u == WeightUpdate::kThesis ? "thesis" : "sklearn"; }
 
+const char* ErrorMeasureName(ErrorMeasure m) { return m == ErrorMeasure::kWhole ? "whole" : "out_of_bag"; }
+
+ErrorMeasure ParseErrorMeasure(const std::string& name) {
+  if (name == "whole") return ErrorMeasure::kWhole;
+  if (name == "out_of_bag") return ErrorMeasure::kOutOfBag;
+  throw Error(ErrorCode::kInvalidArgument, "error_on must be whole or out_of_bag", "error_on");
+}
+
 WeightUpdate ParseWeightUpdate(const std::string& name) {
   if (name == "thesis") return WeightUpdate::kThesis;
   if (name == "sklearn") return WeightUpdate::kSklearn;
@@ -106,6 +126,9 @@ void ValidateTraining(const TrainingSet& data, const EsammeOptions& options) {
   }
   if (!(options.sample_factor > 0.0 && options.sample_factor <= 1.0)) {
     throw Error(ErrorCode::kInvalidArgument, "sample_factor must be in (0, 1]", "sample_factor");
+  }
+  if (!(options.learning_rate > 0.0 && options.learning_rate <= 1.0)) {
+    throw Error(ErrorCode::kInvalidArgument, "learning_rate must be in (0, 1]", "learning_rate");
   }
   if (!(options.unknown_min_share >= 0.0 && options.unknown_min_share <= 1.0)) {
     throw Error(ErrorCode::kInvalidArgument, "unknown_min_share must be in [0, 1]", "unknown_min_share");
@@ -184,9 +207,12 @@ EsammeModel TrainEsamme(const TrainingSet& data, const EsammeOptions& options, c
     const std::vector<int> subset = options.selection == Selection::kMaximum ? MaximumSelection(w, z)
                                                                              : RouletteSelection(w, z, rng);
     std::vector<float> w_all(w.begin(), w.end());
+    std::vector<bool> in_subset(static_cast<std::size_t>(n), false);
+    for (int i : subset) in_subset[static_cast<std::size_t>(i)] = true;
     double best_error = std::numeric_limits<double>::infinity();
     EsammeRound best;
-    std::vector<int> best_pred;
+    std::vector<bool> best_wrong;
+    int best_measured_on = n;  // samples the best error was measured on
     for (int s = 0; s < static_cast<int>(options.base.size()); ++s) {
       const BaseSetting& setting = options.base[static_cast<std::size_t>(s)];
       const bool weighted = options.selection == Selection::kWeights && AcceptsSampleWeights(setting.kind);
@@ -203,20 +229,27 @@ EsammeModel TrainEsamme(const TrainingSet& data, const EsammeOptions& options, c
         } catch (const Error&) {
           continue;  // this combination cannot be trained on this resample; the others compete
         }
-        std::vector<int> pred = clf->Predict(scaled[static_cast<std::size_t>(t)]);
-        double wrong = 0.0, total = 0.0;
+        const std::vector<int> pred = clf->Predict(scaled[static_cast<std::size_t>(t)]);
+        std::vector<bool> mistakes(static_cast<std::size_t>(n));
         for (int i = 0; i < n; ++i) {
-          total += w[static_cast<std::size_t>(i)];
-          if (pred[static_cast<std::size_t>(i)] != data.labels[static_cast<std::size_t>(i)]) wrong += w[static_cast<std::size_t>(i)];
+          mistakes[static_cast<std::size_t>(i)] = pred[static_cast<std::size_t>(i)] != data.labels[static_cast<std::size_t>(i)];
         }
-        const double e = total > 0 ? wrong / total : 1.0;
+        // The rule: the weighted error on the whole training set. kOutOfBag: on the samples the resample
+        // left out (a held-out estimate; a fit on every sample has none and keeps the whole-set error).
+        double e = std::numeric_limits<double>::quiet_NaN();
+        const bool held_out = options.error_on == ErrorMeasure::kOutOfBag && !weighted;
+        if (held_out) e = WeightedError(w, mistakes, in_subset);  // NaN when the resample left nothing out
+        const bool measured_out_of_bag = !std::isnan(e);
+        if (!measured_out_of_bag) e = WeightedError(w, mistakes, {});
+        if (std::isnan(e)) e = 1.0;
         if (e < best_error) {
           best_error = e;
           best.setting = s;
           best.feature_type = t;
           best.error = e;
           best.classifier = std::move(clf);
-          best_pred = std::move(pred);
+          best_wrong = std::move(mistakes);
+          best_measured_on = measured_out_of_bag ? static_cast<int>(std::count(in_subset.begin(), in_subset.end(), false)) : n;
         }
       }
     }
@@ -226,18 +259,21 @@ EsammeModel TrainEsamme(const TrainingSet& data, const EsammeOptions& options, c
       }
       break;
     }
-    const bool perfect = best_error <= 0.0;
-    best.alpha = SammeAlpha(best_error, k, options.update);
+    bool perfect = best_error <= 0.0;
+    if (perfect && options.error_on == ErrorMeasure::kOutOfBag && options.selection != Selection::kMaximum) {
+      // No mistake on m held-out samples bounds the error by about 1/m, not 0: e is floored at half a sample's
+      // share, and training goes on (this round changes no weight; the next one differs by its resample).
+      best_error = 0.5 / best_measured_on;
+      best.error = best_error;
+      perfect = false;
+    }
+    best.alpha = options.learning_rate * SammeAlpha(best_error, k, options.update);
     model.rounds.push_back(best);
     if (perfect) {
       if (callback) callback(options.rounds, options.rounds);
       break;
     }
-    std::vector<bool> wrong(static_cast<std::size_t>(n));
-    for (int i = 0; i < n; ++i) {
-      wrong[static_cast<std::size_t>(i)] = best_pred[static_cast<std::size_t>(i)] != data.labels[static_cast<std::size_t>(i)];
-    }
-    ReweightSamples(w, wrong, best.alpha, options.update);
+    ReweightSamples(w, best_wrong, best.alpha, options.update);
     if (callback && !callback(round + 1, options.rounds)) throw Error(ErrorCode::kConflict, "cancelled");
   }
   return model;

@@ -13,6 +13,18 @@
 // further rounds cannot reweight anything: it is kept and training stops; its alpha is computed from e clamped to
 // 1e-10 (about 23 + log(K-1), so it outvotes the earlier rounds) under kThesis, and is 1 under kSklearn (as
 // scikit-learn does).
+// Which error ranks the combinations and gives alpha (`ErrorMeasure`):
+//   kWhole (default, the rule): the weighted error on the whole training set;
+//   kOutOfBag: the weighted error on the training samples the round's resample left out (normalised by their
+//     weight). A learner that interpolates its resample (an RBF SVM with a large gamma, a deep tree, 1-NN) has a
+//     whole-set error that counts its own training samples as right, so under kWhole it wins rounds with an error
+//     near or at 0, gets a huge alpha and outvotes everything (or ends training alone); out of bag it is judged on
+//     samples it did not see. Fits on every sample (kWeights' weighted kinds) have no such samples and keep the
+//     whole-set error, so kOutOfBag is meant for kRoulette or kMaximum. The weight update always uses the mistakes
+//     on the whole training set. At e = 0 out of bag (no mistake on m unseen samples, an error bound of about 1/m
+//     rather than proof of perfection) e is floored at 1/(2m) and training goes on (the round changes no weight, the
+//     next differs by its resample); under kMaximum, whose next resample would be the same, it stops as above.
+// learning_rate (shrinkage, nu in (0, 1]) multiplies every alpha: alpha_t = nu * (log((1-e)/e) + log(K-1)).
 // Features are standardised per feature type (mean 0, standard deviation 1 over the training set; a constant
 // dimension is left at 0) before the base classifiers see them; the model keeps the scaling.
 #include <cstdint>
@@ -31,12 +43,16 @@ namespace anchordb::engine {
 //   kWeights:  every sample with its weight for the kinds that accept weights (DTrees), roulette for the others.
 enum class Selection { kMaximum, kRoulette, kWeights };
 enum class WeightUpdate { kThesis, kSklearn };
+enum class ErrorMeasure { kWhole, kOutOfBag };
 
 // "maximum" | "roulette" | "weights"; "thesis" | "sklearn". Parse* throw Error(kInvalidArgument).
 const char* SelectionName(Selection s);
 Selection ParseSelection(const std::string& name);
 const char* WeightUpdateName(WeightUpdate u);
 WeightUpdate ParseWeightUpdate(const std::string& name);
+// "whole" | "out_of_bag".
+const char* ErrorMeasureName(ErrorMeasure m);
+ErrorMeasure ParseErrorMeasure(const std::string& name);
 
 // The name of the optional rejection class.
 inline constexpr const char* kUnknownClass = "unknown";
@@ -55,6 +71,8 @@ struct EsammeOptions {
   Selection selection = Selection::kMaximum;
   double sample_factor = 0.6;     // z_f in (0, 1]: Z = max(K, round(z_f * n)) samples per round
   WeightUpdate update = WeightUpdate::kThesis;
+  ErrorMeasure error_on = ErrorMeasure::kWhole;
+  double learning_rate = 1.0;     // nu in (0, 1], multiplies alpha
   std::uint64_t seed = 1;
   // With `unknown`, predictions whose winning share of the summed alpha is below unknown_min_share are "unknown"
   // (the class must then be among the class names; samples may be labelled with it as negative examples).

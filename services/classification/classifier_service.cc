@@ -47,7 +47,8 @@ Json OptionsJson(const TrainClassifierRequest& r) {
   for (const auto& s : r.base) base.push_back(SettingJson(s));
   return {{"name", r.name}, {"base", base}, {"rounds", r.rounds}, {"selection", engine::SelectionName(r.selection)},
           {"sample_factor", r.sample_factor}, {"folds", r.folds}, {"seed", r.seed},
-          {"update", engine::WeightUpdateName(r.update)}, {"unknown", r.unknown}, {"unknown_min_share", r.unknown_min_share}};
+          {"update", engine::WeightUpdateName(r.update)}, {"error_on", engine::ErrorMeasureName(r.error_on)},
+          {"learning_rate", r.learning_rate}, {"unknown", r.unknown}, {"unknown_min_share", r.unknown_min_share}};
 }
 
 std::string EncodeRequest(const TrainClassifierRequest& r) {
@@ -69,6 +70,8 @@ TrainClassifierRequest DecodeRequest(const std::string& text) {
   r.folds = j.at("folds").get<int>();
   r.seed = j.at("seed").get<std::uint64_t>();
   r.update = engine::ParseWeightUpdate(j.at("update").get<std::string>());
+  r.error_on = engine::ParseErrorMeasure(j.value("error_on", std::string("whole")));  // absent in older requests
+  r.learning_rate = j.value("learning_rate", 1.0);
   r.unknown = j.at("unknown").get<bool>();
   r.unknown_min_share = j.at("unknown_min_share").get<double>();
   for (const Json& s : j.at("samples")) {
@@ -141,6 +144,8 @@ engine::EsammeOptions OptionsOf(const TrainClassifierRequest& r) {
   o.selection = r.selection;
   o.sample_factor = r.sample_factor;
   o.update = r.update;
+  o.error_on = r.error_on;
+  o.learning_rate = r.learning_rate;
   o.seed = r.seed;
   o.unknown = r.unknown;
   o.unknown_min_share = r.unknown_min_share;
@@ -263,6 +268,17 @@ std::shared_ptr<const engine::EsammeModel> ClassifierService::Model(const std::s
 std::vector<ClassPrediction> ClassifierService::Predict(const std::string& name, const PredictRequest& request) {
   const auto model = Model(name);
   if (request.samples.empty()) throw Error(ErrorCode::kInvalidArgument, "no samples", "samples");
+  // A feature type the model was not trained on is a client mistake (a misspelt type would otherwise be ignored).
+  for (std::size_t i = 0; i < request.samples.size(); ++i) {
+    for (const auto& [type, values] : request.samples[i]) {
+      if (std::find(model->feature_types.begin(), model->feature_types.end(), type) == model->feature_types.end()) {
+        std::string known;
+        for (const auto& t : model->feature_types) known += (known.empty() ? "" : ", ") + t;
+        throw Error(ErrorCode::kInvalidArgument, "unknown feature type '" + type.substr(0, 40) + "' (the classifier's types: " +
+                                                     known + ")", "samples[" + std::to_string(i) + "].features." + type.substr(0, 40));
+      }
+    }
+  }
   std::vector<engine::FeatureMatrix> features;
   for (std::size_t t = 0; t < model->feature_types.size(); ++t) {
     const std::string& type = model->feature_types[t];

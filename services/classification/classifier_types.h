@@ -28,6 +28,8 @@ struct TrainClassifierRequest {
   int folds = 5;  // 0: no cross-validation; else in [2, samples]
   std::uint64_t seed = 1;
   engine::WeightUpdate update = engine::WeightUpdate::kThesis;
+  engine::ErrorMeasure error_on = engine::ErrorMeasure::kWhole;
+  double learning_rate = 1.0;
   bool unknown = false;
   double unknown_min_share = 0.5;
 };

@@ -135,6 +135,53 @@ TEST(EsammeTest, ZeroErrorKeepsTheLearnerAndStops) {
   EXPECT_NEAR(model.rounds[0].alpha, SammeAlpha(0.0, 3, WeightUpdate::kThesis), 1e-9);
 }
 
+// Out of bag, a learner that interpolates its resample (1-NN) is judged on the samples it did not see: with the same
+// seed (the same resamples) its first-round error is higher than the whole-set error, which counts its own training
+// samples as right.
+TEST(EsammeTest, OutOfBagErrorJudgesAnInterpolatingLearnerOnUnseenSamples) {
+  const TrainingSet data = Gaussians(2, 60, 2, 1.0, 17);  // overlapping: 1-NN errs on unseen samples
+  EsammeOptions o;
+  o.base = {Knn(1)};
+  o.selection = Selection::kRoulette;
+  o.rounds = 1;
+  o.update = WeightUpdate::kSklearn;
+  const EsammeModel whole = TrainEsamme(data, o);
+  o.error_on = ErrorMeasure::kOutOfBag;
+  const EsammeModel oob = TrainEsamme(data, o);
+  ASSERT_EQ(whole.rounds.size(), 1u);
+  ASSERT_EQ(oob.rounds.size(), 1u);
+  EXPECT_GT(whole.rounds[0].error, 0.0);
+  EXPECT_GT(oob.rounds[0].error, whole.rounds[0].error * 1.4);  // about 45 % of the samples are out of bag
+  EXPECT_LT(oob.rounds[0].alpha, whole.rounds[0].alpha);
+}
+
+// e = 0 out of bag is floored at half a sample's share and training goes on; under the whole-set error the same
+// perfect learner ends training after one round. The learning rate scales alpha.
+TEST(EsammeTest, ZeroOutOfBagErrorIsFlooredAndTrainingGoesOn) {
+  const TrainingSet data = Gaussians(2, 30, 2, 20.0, 5);  // separable
+  EsammeOptions o;
+  o.base = {Tree(1)};
+  o.selection = Selection::kRoulette;
+  o.rounds = 5;
+  o.update = WeightUpdate::kSklearn;
+  EXPECT_EQ(TrainEsamme(data, o).rounds.size(), 1u);
+  o.error_on = ErrorMeasure::kOutOfBag;
+  const EsammeModel oob = TrainEsamme(data, o);
+  ASSERT_EQ(oob.rounds.size(), 5u);
+  for (const auto& r : oob.rounds) {
+    EXPECT_GT(r.error, 0.5 / 60);  // 1/(2m), m < 60 samples out of bag
+    EXPECT_LT(r.error, 0.5 / 10);
+    EXPECT_NEAR(r.alpha, SammeAlpha(r.error, 2, WeightUpdate::kSklearn), 1e-12);
+  }
+  EXPECT_EQ(TrainError(oob, data), 0.0);
+  o.learning_rate = 0.5;
+  const EsammeModel shrunk = TrainEsamme(data, o);
+  ASSERT_EQ(shrunk.rounds.size(), 5u);
+  EXPECT_NEAR(shrunk.rounds[0].alpha, 0.5 * oob.rounds[0].alpha, 1e-12);
+  o.learning_rate = 0.0;
+  EXPECT_THROW(TrainEsamme(data, o), Error);
+}
+
 TEST(EsammeTest, NoLearnerBetterThanChanceIsAnError) {
   TrainingSet data = Gaussians(2, 20, 1, 0.0, 3);
   for (int i = 0; i < data.features[0].rows(); ++i) data.features[0](i, 0) = 1.0f;  // nothing to learn from

@@ -118,6 +118,12 @@ TEST_F(ClassifiersHttpTest, TrainReportPredictAndRestart) {
   json rounds = Training("bad");
   rounds["rounds"] = 100000;
   refused(rounds, 400, "rounds");
+  json shrink = Training("bad");
+  shrink["learning_rate"] = 0;
+  refused(shrink, 400, "learning_rate");
+  json measure = Training("bad");
+  measure["error_on"] = "test_set";
+  refused(measure, 400, "error_on");
   json kind = Training("bad");
   kind["base"] = {{{"kind", "forest"}}};
   refused(kind, 400, "kind");
@@ -130,6 +136,13 @@ TEST_F(ClassifiersHttpTest, TrainReportPredictAndRestart) {
   EXPECT_EQ(Call("GET", "/v1/classifiers", {}, 200)["classifiers"].size(), 1u);
   Call("GET", "/v1/classifiers/bad", {}, 404);
   Call("POST", "/v1/classifiers/rooms:predict", {{"samples", {{{"features", {{"signal", {1, 2}}}}}}}}, 400);  // no noise type
+  // A type the classifier was not trained on (here a misspelt one beside the right two) is refused, not ignored.
+  json misspelt = probe;
+  misspelt["samples"][2]["features"]["nosie"] = {0.0, 0.0, 0.0};
+  const json unknown_type = Call("POST", "/v1/classifiers/rooms:predict", misspelt, 400);
+  EXPECT_EQ(unknown_type["error"]["field"], "samples[2].features.nosie") << unknown_type.dump();
+  EXPECT_EQ(Call("GET", "/v1/classifiers", {}, 200)["classifiers"].size(), 1u);
+  EXPECT_EQ(Call("POST", "/v1/classifiers/rooms:predict", probe, 200), before);  // the model is unchanged
   Call("POST", "/v1/classifiers/nothing:predict", probe, 404);
 }
 
