@@ -5,6 +5,17 @@
 
 namespace anchordb::services::furniture_detail {
 
+std::string DefaultOccupancyLayer(storage::Store& store, const std::string& map) {
+  const auto layers = store.Read([&](storage::Connection& c) { return storage::ListLayers(c, map); });
+  std::vector<std::string> occupancy;
+  for (const storage::LayerRecord& l : layers) {
+    if (l.kind != LayerKind::kOccupancy) continue;
+    if (l.name == "occupancy") return l.name;
+    occupancy.push_back(l.name);
+  }
+  return occupancy.size() == 1 ? occupancy.front() : std::string();
+}
+
 std::optional<engine::OccupancyGrid> OccupancyOf(storage::Store& store, const std::string& map, const std::string& layer) {
   if (layer.empty()) return std::nullopt;
   const auto record = store.Read([&](storage::Connection& c) { return storage::FindLayer(c, map, layer, true); });

@@ -96,6 +96,7 @@ GraphView FurnitureService::Create(const std::string& map, const CreateGraphRequ
   graph->graph = g::BuildFurnitureGraph(graph->viewpoint, furniture, graph->knowledge.categories.size(),
                                         g::GraphParams{graph->params.edge_max_gap_m, graph->params.relation_sharpness});
   if (graph->params.orientation_prior == OrientationPrior::kRoom) {
+    if (!request.params.occupancy_layer) graph->params.occupancy_layer = DefaultOccupancyLayer(store_, map);
     const auto occupancy = OccupancyOf(store_, map, graph->params.occupancy_layer);
     graph->graph.initial.orientation = g::RoomOrientationPrior(graph->viewpoint, furniture, graph->knowledge.categories,
                                                                g::RoomLayout{occupancy ? &*occupancy : nullptr, {}});

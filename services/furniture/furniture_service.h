@@ -29,7 +29,7 @@ struct FurnitureSettings {
   double sigma = 3.0;                // damping of eq. 5.4 (>= 1; 1 = the description replaces the belief)
   double edge_max_gap_m = 1.5;       // pieces closer than this share an edge [m]
   double relation_sharpness = 3.0;   // kappa of the initial p(r) by angle
-  std::string model = "sequential"; // default of params.model: "sequential" (the thesis' scoring) or "joint"
+  std::string model = "joint";     // default of params.model: "joint" (joint_model.h) or "sequential" (the thesis')
   double ambiguity_margin = 0.02;    // default of params.ambiguity_margin for the sequential model (units of S, eq. 5.2)
   double ambiguity_margin_joint = 0.3;  // the same for the joint model [nats]
   double category_floor = 0.05;      // default of params.category_floor (half the chance level of the 10 default categories)

@@ -27,6 +27,9 @@ struct ResolvedDescription {
 };
 ResolvedDescription ResolveDescription(const DescriptionRequest& request, const g::CategoryTable& table);
 
+// The occupancy layer a graph's room prior uses when the request names none: the map's occupancy layer named
+// "occupancy", else its only occupancy layer; "" when it has none (or several, none of them named so).
+std::string DefaultOccupancyLayer(storage::Store& store, const std::string& map);
 // The occupancy grid of layer `layer` of `map` for the room's orientation prior; nullopt when `layer` is empty.
 // Unknown layer kNotFound, a layer of another kind kUnprocessable (furniture_room.cc).
 std::optional<engine::OccupancyGrid> OccupancyOf(storage::Store& store, const std::string& map, const std::string& layer);

@@ -13,9 +13,9 @@ void BindFurnitureSettings(SettingsBinder& b, FurnitureSettings& f) {
          &f.relation_sharpness, 0, 100);
   b.Bind("grounding_ambiguity_margin", "a description is ambiguous (its category update held back until resolved) when a "
          "reading of other pieces is within this much accumulated score (eq. 5.2) of the best; 0 = off", &f.ambiguity_margin, 0, 10);
-  b.Bind("grounding_model", "how new furniture graphs score their hypotheses (default of params.model): sequential (the "
-         "thesis' sum of eq. 5.2 on damped updates) or joint (the log-joint of a hypothesis' descriptions, "
-         "engine/grounding/joint_model.h)", &f.model);
+  b.Bind("grounding_model", "how new furniture graphs score their hypotheses (default of params.model): joint (the "
+         "log-joint of a hypothesis' descriptions, engine/grounding/joint_model.h; the default, it meets issue 17's bars) "
+         "or sequential (the thesis' sum of eq. 5.2 on damped updates)", &f.model);
   b.Require([&f] { return f.model == "sequential" || f.model == "joint"; }, "grounding_model must be sequential or joint");
   b.Bind("grounding_ambiguity_margin_joint", "the same margin for graphs of the joint model, in nats of its log-joint; 0 = off",
          &f.ambiguity_margin_joint, 0, 10);

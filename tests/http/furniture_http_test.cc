@@ -1,6 +1,7 @@
 // Furniture graphs over real HTTP on loopback (the anchordb binary, a SQLite file): a conversation interrupted by a
 // restart (graceful, and kill -9) ends with the same graph as an uninterrupted one; bad input is refused with an
-// error naming what was not understood and leaves the hypotheses as they were.
+// error naming what was not understood and leaves the hypotheses as they were; the room prior finds the map's
+// occupancy layer by itself.
 #include "api/http_api.h"  // Eigen before httplib (see api/http_api.h)
 #include "tests/support/server_process.h"
 #include "tests/support/temp_dir.h"
@@ -89,6 +90,42 @@ class FurnitureHttpTest : public ::testing::Test {
   std::unique_ptr<testing::ServerProcess> server_;  // NOLINT
   std::unique_ptr<httplib::Client> client_;
 };
+
+// A room 5 m x 5 m (walls two cells thick) as the map's only occupancy layer, "walls": a graph that names no layer
+// takes it, and the shelf with its back to the east wall faces into the room (towards the viewer: "front").
+TEST_F(FurnitureHttpTest, TheRoomPriorUsesTheMapsOccupancyLayerWhenNoneIsNamed) {
+  Start("room.sqlite");
+  const int cells = 100;  // 0.05 m: x 0-5 m, y -2.5-2.5 m
+  std::string pgm = "P5\n100 100\n255\n";
+  for (int row = 0; row < cells; ++row) {
+    for (int col = 0; col < cells; ++col) {
+      const bool wall = row < 2 || col < 2 || row >= cells - 2 || col >= cells - 2;
+      pgm += static_cast<char>(wall ? 0 : 254);
+    }
+  }
+  const std::string yaml = "image: walls.pgm\nresolution: 0.05\norigin: [0.0, -2.5, 0.0]\nnegate: 0\n"
+                           "occupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  const json body = json::parse(R"({
+    "viewpoint": {"position": [0.5, 0], "heading_rad": 0},
+    "furniture": [
+      {"id": "shelf", "position": [4.65, 0.0], "extent": [0.4, 1.0], "yaw_rad": 3.14159, "categories": {"shelf": 0.8, "table": 0.2}},
+      {"id": "plant", "position": [3.8, 0.9], "extent": [0.4, 0.4], "categories": {"plant": 0.8, "stool": 0.2}}
+    ]
+  })");
+  for (const char* map : {"home", "bare"}) Post("/v1/maps", {{"id", map}, {"name", map}}, 201);
+  auto layer = client_->Put("/v1/maps/home/layers/walls",
+                            httplib::MultipartFormDataItems{{"yaml", yaml, "walls.yaml", "text/yaml"},
+                                                            {"image", pgm, "walls.pgm", "image/x-portable-graymap"}});
+  ASSERT_TRUE(layer && layer->status / 100 == 2) << (layer ? layer->body : "");
+  const json g = Post("/v1/maps/home/furniture-graphs", body, 201);
+  EXPECT_EQ(g["params"]["occupancy_layer"], "walls") << g.dump();
+  ASSERT_EQ(g["vertices"][0]["id"], "shelf");
+  EXPECT_GE(g["vertices"][0]["orientations"]["front"].get<double>(), 0.7) << g["vertices"][0].dump();
+  // A map without an occupancy layer: no walls, so the shelf's front stays unknown.
+  const json bare = Post("/v1/maps/bare/furniture-graphs", body, 201);
+  EXPECT_TRUE(bare["params"]["occupancy_layer"].is_null()) << bare.dump();
+  EXPECT_LT(bare["vertices"][0]["orientations"]["front"].get<double>(), 0.5);
+}
 
 TEST_F(FurnitureHttpTest, RestartInTheMiddleOfASequenceGivesTheSameFinalGraph) {
   Start("straight.sqlite");
