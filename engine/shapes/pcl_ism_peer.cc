@@ -2,6 +2,7 @@
 #include "engine/shapes/pcl_ism_peer.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <pcl/console/print.h>
 #include <pcl/features/fpfh.h>
@@ -36,6 +37,36 @@ Normals::Ptr NormalsOf(const Cloud::Ptr& cloud, double radius_m) {
   ne.compute(*normals);
   return normals;
 }
+
+// PCL 1.13's mean shift (ISMVoteList::shiftMean) divides by the summed kernel weight of the votes near its start;
+// a start vote of strength 0 (a codeword whose learned statistics weight it 0) or a non-finite vote gives a NaN
+// centre, and the next radius search aborts in kdtree_flann.hpp ("Invalid NaN point"). Such votes add nothing to a
+// density, so the peer drops them before asking for peaks. The vote list keeps them in protected members; this
+// subclass only reaches them.
+struct VoteListCleaner : pcl::features::ISMVoteList<pcl::PointXYZ> {
+  static std::size_t DropUselessVotes(pcl::features::ISMVoteList<pcl::PointXYZ>& list) {
+    auto& l = static_cast<VoteListCleaner&>(list);
+    auto votes = std::make_shared<pcl::PointCloud<pcl::InterestPoint>>();
+    auto origins = std::make_shared<Cloud>();
+    std::vector<int> classes;
+    std::size_t dropped = 0;
+    for (std::size_t i = 0; i < l.votes_->size(); ++i) {
+      const pcl::InterestPoint& v = (*l.votes_)[i];
+      if (std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.strength) && v.strength > 0) {
+        votes->push_back(v);
+        origins->push_back((*l.votes_origins_)[i]);
+        classes.push_back(l.votes_class_[i]);
+      } else {
+        ++dropped;
+      }
+    }
+    l.votes_ = votes;
+    l.votes_origins_ = origins;
+    l.votes_class_ = std::move(classes);
+    l.tree_is_valid_ = false;
+    return dropped;
+  }
+};
 
 }  // namespace
 
@@ -89,7 +120,8 @@ PclIsmResult PclIsm::Classify(const std::vector<Eigen::Vector3f>& points_m, bool
     const double sigma = impl_->model->sigmas_[c];
     std::vector<pcl::ISMPeak, Eigen::aligned_allocator<pcl::ISMPeak>> peaks;
     double peak = 0, at_centre = 0;
-    if (votes->getNumberOfVotes() > 0) {
+    out.dropped_votes += VoteListCleaner::DropUselessVotes(*votes);
+    if (votes->getNumberOfVotes() > 0 && std::isfinite(sigma) && sigma > 0) {
       votes->findStrongestPeaks(peaks, static_cast<int>(c), sigma * 10, sigma);
       for (const auto& p : peaks) peak = std::max(peak, static_cast<double>(p.density));
       at_centre = votes->getDensityAtPoint(centre, sigma);

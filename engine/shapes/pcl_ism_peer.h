@@ -25,6 +25,7 @@ struct PclIsmResult {
   std::string best;                  // "" when no class got a vote
   std::vector<double> peak_density;  // per category: the strongest peak (PCL's findStrongestPeaks)
   std::vector<double> centre_density;  // per category: vote density at the cloud's centroid (verification mode)
+  std::size_t dropped_votes = 0;       // votes of strength 0 or non-finite, dropped before the peak search
 };
 
 class PclIsm {

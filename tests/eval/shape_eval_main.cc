@@ -1,5 +1,6 @@
 // Shape models beside PCL's ISM (issue 16): prints the Markdown tables and one JSON line per data set.
-// Usage: anchordb_eval_shapes [--quick] [--no-pcl] [--no-loo]
+// Usage: anchordb_eval_shapes [--quick] [--no-pcl] [--no-loo | --loo-only] [--only-furniture] [--clean-train]
+//        [--seed N] [--set name=value ...]   (--quick first: it resets the configuration)
 #include <cstring>
 #include <string>
 #include <iostream>
@@ -9,13 +10,16 @@
 int main(int argc, char** argv) {
   using namespace anchordb::eval;
   ShapeEvalConfig config = FullShapeEvalConfig();
-  bool loo = true;
+  bool loo = true, loo_only = false;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--quick")) config = QuickShapeEvalConfig();
     if (!std::strcmp(argv[i], "--no-pcl")) config.run_pcl = false;
     if (!std::strcmp(argv[i], "--no-loo")) loo = false;
+    if (!std::strcmp(argv[i], "--loo-only")) loo_only = true;  // only leave-one-mesh-out (with --no-pcl: ours alone)
     if (!std::strcmp(argv[i], "--clean-train")) config.train_noise = false;
     if (!std::strcmp(argv[i], "--only-furniture")) config.variants_per_test_cloud = -1;
+    // Another seed draws other test views and noise (used to tune without looking at the reported seed-16 views).
+    if (!std::strcmp(argv[i], "--seed") && i + 1 < argc) config.seed = std::stoull(argv[++i]);
     // Tuning: --set name=value for the furniture parameters.
     if (!std::strcmp(argv[i], "--set") && i + 1 < argc) {
       const std::string kv = argv[++i];
@@ -38,6 +42,7 @@ int main(int argc, char** argv) {
   try {
     for (auto run : {&EvaluatePclTestPair, &EvaluateFurnitureViews, &EvaluateFurnitureLeaveOneMeshOut}) {
       if (run == &EvaluateFurnitureLeaveOneMeshOut && !loo) continue;
+      if (run != &EvaluateFurnitureLeaveOneMeshOut && loo_only) continue;
       if (run == &EvaluatePclTestPair && config.variants_per_test_cloud < 0) continue;
       const DatasetResult r = run(config);
       std::cout << ResultTable(r) << "\n" << ResultJson(r) << "\n\n" << std::flush;
