@@ -9,6 +9,7 @@
 
 #include <octomap/OcTree.h>
 
+#include "engine/octomap/octree_stream_check.h"
 #include "schema/error.h"
 
 namespace anchordb::engine {
@@ -311,6 +312,7 @@ void OccupancyTree::ReadOt(std::string_view bytes, std::int64_t stamp_ns) {
   if (bytes.substr(0, kOtMagic.size()) != kOtMagic) {
     throw Error(ErrorCode::kInvalidArgument, "not an OctoMap .ot file (header '# Octomap OcTree file' missing)", "body");
   }
+  CheckOtNodeStream(bytes);  // liboctomap would read past a cut-off stream
   std::istringstream in(std::string(bytes), std::ios::binary);
   std::unique_ptr<octomap::AbstractOcTree> read(octomap::AbstractOcTree::read(in));
   if (!read) throw Error(ErrorCode::kInvalidArgument, ".ot file does not decode", "body");
@@ -335,6 +337,7 @@ void OccupancyTree::ReadBt(std::string_view bytes, std::int64_t stamp_ns) {
                 "not an OctoMap .bt file (header '# Octomap OcTree binary file' missing)", "body");
   }
   // Resolution from the header, so the tree is built at the file's resolution (readBinary also sets it).
+  CheckBtNodeStream(bytes);  // liboctomap would read past a cut-off stream
   auto fresh = std::make_unique<Impl>(impl_->params);
   std::istringstream in(std::string(bytes), std::ios::binary);
   if (!fresh->tree.readBinary(in)) throw Error(ErrorCode::kInvalidArgument, ".bt file does not decode", "body");

@@ -105,6 +105,54 @@ TEST(OctomapTree, BadFilesLeaveTheTreeUnchanged) {
   EXPECT_TRUE(tree.SameLeaves(before));
 }
 
+// liboctomap keeps reading a cut-off node stream on bytes it never read (found as a stack overflow in the sanitized
+// server): every cut of a whole body, at any byte, must be refused before it gets there, and so must a forged stream
+// whose nodes claim children far below the tree's 16 levels.
+TEST(OctomapTree, EveryCutOfABodyAndAForgedDeepStreamAreRefused) {
+  OccupancyTree tree = WallTree();
+  const OccupancyTree before = tree.Clone();
+  const std::string ot = tree.WriteOt();
+  const std::string bt = tree.WriteBt();
+  const std::size_t ot_data = ot.find("\ndata\n") + 6;
+  const std::size_t bt_data = bt.find("\ndata\n") + 6;
+  ASSERT_GT(ot.size(), ot_data + 1000);
+  ASSERT_GT(bt.size(), bt_data + 100);
+  // Every cut in the first 600 node bytes and the last 600, and every 97th in between.
+  const auto cuts = [](std::size_t data, std::size_t size) {
+    std::vector<std::size_t> out;
+    for (std::size_t cut = data; cut < size; cut += (cut < data + 600 || cut + 600 > size) ? 1 : 97) out.push_back(cut);
+    return out;
+  };
+  const auto refused = [&](const std::string& body, std::size_t data, bool is_ot) {
+    int n = 0;
+    for (const std::size_t cut : cuts(data, body.size())) {
+      try {
+        is_ot ? tree.ReadOt(body.substr(0, cut), 1) : tree.ReadBt(body.substr(0, cut), 1);
+      } catch (const Error& e) {
+        n += e.code() == ErrorCode::kInvalidArgument ? 1 : 0;
+      }
+    }
+    return n;
+  };
+  EXPECT_EQ(refused(ot, ot_data, true), static_cast<int>(cuts(ot_data, ot.size()).size()));
+  EXPECT_EQ(refused(bt, bt_data, false), static_cast<int>(cuts(bt_data, bt.size()).size()));
+  // 64 nested nodes, each with its first child only: well past depth 16, and long enough to be read whole.
+  std::string deep_ot = ot.substr(0, ot_data), deep_bt = bt.substr(0, bt_data);
+  for (int d = 0; d < 64; ++d) {
+    deep_ot += std::string(4, '\0') + std::string(1, '\x01');
+    deep_bt += std::string(1, '\x03') + std::string(1, '\0');
+  }
+  deep_ot += std::string(5, '\0');
+  deep_bt += std::string(2, '\0');
+  EXPECT_THROW(tree.ReadOt(deep_ot, 1), Error);
+  EXPECT_THROW(tree.ReadBt(deep_bt, 1), Error);
+  EXPECT_TRUE(tree.SameLeaves(before));
+  // The whole bodies still read.
+  OccupancyTree back;
+  back.ReadOt(ot, 1);
+  EXPECT_TRUE(back.SameLeaves(before));
+}
+
 TEST(OctomapTree, BadCloudsLeaveTheTreeUnchanged) {
   OccupancyTree tree = WallTree();
   const OccupancyTree before = tree.Clone();
