@@ -83,6 +83,8 @@ void SettingsBinder::Bind(std::string name, std::string description, T* field, d
                                                     : "number";
   e.info = {name, type, std::move(description), lo, hi};
   e.set = [name, field, lo, hi](const std::string& text) {
+    (void)lo;  // unused for strings and bools (clang warns of an unused capture)
+    (void)hi;
     if constexpr (std::is_same_v<T, std::string>) {
       *field = text;
     } else if constexpr (std::is_same_v<T, bool>) {

@@ -45,7 +45,14 @@ const std::uint32_t* JumpThresholds(float jump_fraction) {
   return table.data();
 }
 
-__attribute__((optimize("tree-vectorize"))) void OrInto(const std::uint8_t* __restrict from, std::size_t count, std::uint8_t* __restrict to) {
+// The depth-edge filter's byte-wise OR, vectorised by GCC through its optimize attribute (clang, which has no such
+// attribute, gets the plain loop).
+#if defined(__GNUC__) && !defined(__clang__)
+#define ANCHORDB_VECTORIZE __attribute__((optimize("tree-vectorize")))
+#else
+#define ANCHORDB_VECTORIZE
+#endif
+ANCHORDB_VECTORIZE void OrInto(const std::uint8_t* __restrict from, std::size_t count, std::uint8_t* __restrict to) {
   for (std::size_t k = 0; k < count; ++k) to[k] |= from[k];
 }
 

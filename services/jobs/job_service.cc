@@ -304,7 +304,9 @@ void JobService::RecordFailures() {
     std::lock_guard<std::mutex> lock(mutex_);
     failed = unrecorded_failures_;
   }
-  for (const auto& [id, message] : failed) {
+  for (const auto& failure : failed) {
+    const std::int64_t id = failure.first;  // named copies: clang 14 cannot capture a structured binding
+    const std::string& message = failure.second;
     try {
       store_.Write([&](storage::Connection& c) {
         const auto r = storage::FindJob(c, id);

@@ -56,11 +56,11 @@ TEST_F(EventRepositoryTest, LabelIndexFollowsEveryChangeOfTheLabels) {
   EXPECT_EQ(WithLabel("home", "wallet"), std::vector<std::int64_t>{keys});
   EXPECT_EQ(WithLabel("other", "keys"), std::vector<std::int64_t>{elsewhere});
   EXPECT_TRUE(WithLabel("home", "spoon").empty());
-  store_->Write([&](Connection& c) {
-    auto r = *FindInstance(c, "home", cup, false);
+  store_->Write([&, cup_id = cup, keys_id = keys](Connection& c) {  // copies: clang 14 cannot capture a binding
+    auto r = *FindInstance(c, "home", cup_id, false);
     r.labels_json = R"({"keys":1.0})";  // relabelled: now also a candidate for the keys
     UpdateInstance(c, r);
-    auto k = *FindInstance(c, "home", keys, false);
+    auto k = *FindInstance(c, "home", keys_id, false);
     k.labels_json = R"({"wallet":1.0})";
     UpdateInstance(c, k);
   });
