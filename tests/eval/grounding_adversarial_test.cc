@@ -4,7 +4,8 @@
 // bars - descriptions right >= 92 %, quality-A graphs all right 100 %, quality-B graphs all right >= 85 % - on
 // seeds 121-240, 120 rooms per speaker type that no constant or rule of the model was chosen on (seeds 1-30 chose
 // the constants, 31-120 were looked at for the repeat rule; engine/grounding/README.md). anchordb_eval_grounding_
-// adversarial --seed 121 --rooms 30 --blocks 4 --models joint prints the table per block and pooled.
+// adversarial (no options) prints the table per 30-seed block of 1-240 and pooled, the
+// held-out blocks apart.
 #include <gtest/gtest.h>
 
 #include "tests/eval/grounding_adversarial.h"
