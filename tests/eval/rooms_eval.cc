@@ -1,5 +1,6 @@
 #include "tests/eval/rooms_eval.h"
 
+#include <algorithm>
 #include <chrono>
 #include <random>
 
@@ -81,29 +82,76 @@ RoomsData MakeRoomsData(const RoomsEvalOptions& o) {
   const double rooms = static_cast<double>(labels.size());
   out.mean_points_per_room /= rooms;
   for (double& m : out.mean_features_per_room) m /= rooms;
-  // One codebook per type from every room's features (k-means is unsupervised; the labels never enter it).
-  for (int c = 0; c < sim::kRoomCategoryCount; ++c) out.bags.class_names.push_back(sim::RoomCategoryName(c));
-  out.bags.labels = labels;
+  for (int c = 0; c < sim::kRoomCategoryCount; ++c) out.class_names.push_back(sim::RoomCategoryName(c));
+  out.labels = labels;
   for (int ty = 0; ty < 3; ++ty) {
-    const int dims = *engine::FeatureTypeDims(types[ty]);
-    std::vector<float> all;
-    for (const auto& r : descriptors[static_cast<std::size_t>(ty)]) all.insert(all.end(), r.begin(), r.end());
-    const engine::Codebook book = engine::BuildCodebook(all, dims, words[ty], o.seed);
-    engine::FeatureMatrix bags(static_cast<Eigen::Index>(labels.size()), words[ty]);
-    for (std::size_t r = 0; r < labels.size(); ++r) {
-      const auto& flat = descriptors[static_cast<std::size_t>(ty)][r];
+    out.feature_types.push_back(types[ty]);
+    out.dims.push_back(*engine::FeatureTypeDims(types[ty]));
+    out.words.push_back(words[ty]);
+  }
+  out.descriptors = std::move(descriptors);
+  return out;
+}
+
+engine::TrainingSet BagsOfWords(const RoomsData& d, const std::vector<int>& codebook_rooms, std::uint64_t seed) {
+  engine::TrainingSet bags;
+  bags.class_names = d.class_names;
+  bags.labels = d.labels;
+  const std::size_t rooms = d.labels.size();
+  for (std::size_t ty = 0; ty < d.feature_types.size(); ++ty) {
+    const int dims = d.dims[ty], words = d.words[ty];
+    std::vector<float> pooled;  // k-means is unsupervised; the labels never enter it, the test rooms neither
+    for (int r : codebook_rooms) {
+      const auto& flat = d.descriptors[ty][static_cast<std::size_t>(r)];
+      pooled.insert(pooled.end(), flat.begin(), flat.end());
+    }
+    const engine::Codebook book = engine::BuildCodebook(pooled, dims, words, seed);
+    engine::FeatureMatrix m(static_cast<Eigen::Index>(rooms), words);
+    for (std::size_t r = 0; r < rooms; ++r) {
+      const auto& flat = d.descriptors[ty][r];
       std::vector<int> codewords;
       for (std::size_t at = 0; at + static_cast<std::size_t>(dims) <= flat.size(); at += static_cast<std::size_t>(dims)) {
         codewords.push_back(engine::NearestWord(book, std::vector<float>(flat.begin() + static_cast<std::ptrdiff_t>(at),
                                                                          flat.begin() + static_cast<std::ptrdiff_t>(at) + dims)));
       }
-      const auto h = engine::BagOfWords(codewords, words[ty]);
-      for (int w = 0; w < words[ty]; ++w) bags(static_cast<Eigen::Index>(r), w) = static_cast<float>(h[static_cast<std::size_t>(w)]);
+      const auto h = engine::BagOfWords(codewords, words);
+      for (int w = 0; w < words; ++w) m(static_cast<Eigen::Index>(r), w) = static_cast<float>(h[static_cast<std::size_t>(w)]);
     }
-    out.bags.feature_types.push_back(types[ty]);
-    out.bags.features.push_back(std::move(bags));
+    bags.feature_types.push_back(d.feature_types[ty]);
+    bags.features.push_back(std::move(m));
+  }
+  return bags;
+}
+
+std::vector<engine::TrainingSet> FoldBags(const RoomsData& d, const std::vector<int>& fold_of_room, std::uint64_t seed) {
+  const int folds = fold_of_room.empty() ? 0 : *std::max_element(fold_of_room.begin(), fold_of_room.end()) + 1;
+  std::vector<engine::TrainingSet> out;
+  for (int f = 0; f < folds; ++f) {
+    std::vector<int> training_rooms;
+    for (std::size_t r = 0; r < fold_of_room.size(); ++r) {
+      if (fold_of_room[r] != f) training_rooms.push_back(static_cast<int>(r));
+    }
+    out.push_back(BagsOfWords(d, training_rooms, seed + static_cast<std::uint64_t>(f)));
   }
   return out;
+}
+
+engine::TrainingSet OneType(const engine::TrainingSet& bags, std::size_t type) {
+  engine::TrainingSet one = bags;
+  one.feature_types = {bags.feature_types.at(type)};
+  one.features = {bags.features.at(type)};
+  return one;
+}
+
+engine::CrossValidationReport CrossValidateRooms(const std::vector<engine::TrainingSet>& fold_bags,
+                                                 const engine::EsammeOptions& options,
+                                                 const std::vector<int>& fold_of_room, int type) {
+  return engine::CrossValidatePerFold(
+      [&](int f) {
+        const engine::TrainingSet& bags = fold_bags.at(static_cast<std::size_t>(f));
+        return type < 0 ? bags : OneType(bags, static_cast<std::size_t>(type));
+      },
+      options, fold_of_room);
 }
 
 }  // namespace anchordb::eval

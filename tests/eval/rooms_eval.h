@@ -1,7 +1,8 @@
 #pragma once
 // Room categorisation in the manner of thesis 4.3.3 on synthetic rooms (sim/rooms.h): each room scanned from its
 // keyframes, the clouds merged in the map frame, FPFH / SHOT / SPD extracted (engine/features/extraction.h),
-// codebooks by k-means, one bag of words per room and type, E-SAMME cross-validated over the rooms.
+// codebooks by k-means, one bag of words per room and type, E-SAMME cross-validated over the rooms. The codebooks of
+// a fold are built from that fold's training rooms only (the test rooms' descriptors never shape the words).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -21,16 +22,36 @@ struct RoomsEvalOptions {
 // MLPs, DTrees and an RBF SVM grid (the thesis used SVMs, DTrees and MLPs).
 std::vector<engine::BaseSetting> RoomsBaseSet();
 
+// Every room's descriptors, before any codebook.
 struct RoomsData {
-  engine::TrainingSet bags;          // feature types fpfh, shot, spd; classes the six categories
-  double render_seconds = 0.0;       // all rooms
-  double extract_seconds = 0.0;      // all rooms (PCL)
+  std::vector<std::string> class_names;    // the six categories
+  std::vector<int> labels;                 // per room
+  std::vector<std::string> feature_types;  // fpfh, shot, spd
+  std::vector<int> dims, words;            // per type: descriptor length, codebook size
+  std::vector<std::vector<std::vector<float>>> descriptors;  // [type][room]: the room's descriptors back to back
+  double render_seconds = 0.0;             // all rooms
+  double extract_seconds = 0.0;            // all rooms (PCL)
   int keyframes = 0;
   double mean_points_per_room = 0.0;
   double mean_features_per_room[3] = {0, 0, 0};
 };
 
-// Renders, extracts and builds the bags of words of every room.
+// Renders every room and extracts its features.
 RoomsData MakeRoomsData(const RoomsEvalOptions& options);
+
+// The bags of words of every room (feature types as in `data`), over one codebook per type built by seeded k-means
+// from the descriptors of the rooms `codebook_rooms` only.
+engine::TrainingSet BagsOfWords(const RoomsData& data, const std::vector<int>& codebook_rooms, std::uint64_t seed);
+
+// Per fold f, BagsOfWords over the rooms outside fold f (k-means seeded seed + f).
+std::vector<engine::TrainingSet> FoldBags(const RoomsData& data, const std::vector<int>& fold_of_room, std::uint64_t seed);
+
+// The set of one feature type (index into feature_types) of a bag set.
+engine::TrainingSet OneType(const engine::TrainingSet& bags, std::size_t type);
+
+// Cross-validation with fold f trained and tested on fold_bags[f] (and only the feature type `type`, if >= 0).
+engine::CrossValidationReport CrossValidateRooms(const std::vector<engine::TrainingSet>& fold_bags,
+                                                 const engine::EsammeOptions& options,
+                                                 const std::vector<int>& fold_of_room, int type = -1);
 
 }  // namespace anchordb::eval

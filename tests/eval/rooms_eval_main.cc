@@ -1,8 +1,10 @@
 // Prints the room categorisation evaluation (thesis 4.3.3) on synthetic rooms beside the thesis' figures.
 //   anchordb_eval_rooms [--rooms_per_category 10] [--rounds 30] [--seed 1] [--update thesis|sklearn]
 //                       [--selection maximum|roulette|weights] [--sample_factor 0.6] [--cache FILE]
-// --cache keeps the bags of words in FILE (written on the first run, read on later ones: only the boosting reruns).
+// --cache keeps every room's descriptors in FILE (written on the first run, read on later ones: codebooks and
+// boosting rerun).
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -15,33 +17,46 @@ using namespace anchordb;
 
 namespace {
 
-// The bags as text: a header line "rooms types words..." then per room its label and every type's histogram.
-void SaveBags(const std::string& path, const eval::RoomsData& d) {
-  std::ofstream out(path);
-  out << d.bags.labels.size() << " " << d.keyframes << " " << d.mean_points_per_room << " " << d.extract_seconds;
-  for (const auto& m : d.bags.features) out << " " << m.cols();
-  out << "\n";
-  for (std::size_t r = 0; r < d.bags.labels.size(); ++r) {
-    out << d.bags.labels[r];
-    for (const auto& m : d.bags.features) for (Eigen::Index w = 0; w < m.cols(); ++w) out << " " << m(static_cast<Eigen::Index>(r), w);
-    out << "\n";
+// Every room's descriptors as binary: counts and header, then per type and room its float count and floats.
+void SaveRooms(const std::string& path, const eval::RoomsData& d) {
+  std::ofstream out(path, std::ios::binary);
+  auto put = [&](const auto& v) { out.write(reinterpret_cast<const char*>(&v), sizeof(v)); };
+  put(static_cast<std::uint64_t>(d.labels.size()));
+  put(d.keyframes);
+  put(d.mean_points_per_room);
+  put(d.extract_seconds);
+  put(d.render_seconds);
+  for (double m : d.mean_features_per_room) put(m);
+  for (int l : d.labels) put(l);
+  for (const auto& type : d.descriptors) {
+    for (const auto& room : type) {
+      put(static_cast<std::uint64_t>(room.size()));
+      out.write(reinterpret_cast<const char*>(room.data()), static_cast<std::streamsize>(room.size() * sizeof(float)));
+    }
   }
 }
 
-bool LoadBags(const std::string& path, eval::RoomsData& d) {
-  std::ifstream in(path);
-  std::size_t rooms = 0;
-  if (!(in >> rooms >> d.keyframes >> d.mean_points_per_room >> d.extract_seconds)) return false;
-  std::vector<int> words(3);
-  for (int& w : words) in >> w;
-  d.bags.feature_types = {"fpfh", "shot", "spd"};
-  for (int c = 0; c < sim::kRoomCategoryCount; ++c) d.bags.class_names.push_back(sim::RoomCategoryName(c));
-  for (int w : words) d.bags.features.emplace_back(static_cast<Eigen::Index>(rooms), w);
-  for (std::size_t r = 0; r < rooms; ++r) {
-    int label = 0;
-    in >> label;
-    d.bags.labels.push_back(label);
-    for (auto& m : d.bags.features) for (Eigen::Index w = 0; w < m.cols(); ++w) in >> m(static_cast<Eigen::Index>(r), w);
+// Reads SaveRooms' file into `d`, which holds the class names, types, dims and words already.
+bool LoadRooms(const std::string& path, eval::RoomsData& d) {
+  std::ifstream in(path, std::ios::binary);
+  auto get = [&](auto& v) { return static_cast<bool>(in.read(reinterpret_cast<char*>(&v), sizeof(v))); };
+  std::uint64_t rooms = 0;
+  if (!get(rooms) || rooms > 100000) return false;
+  get(d.keyframes);
+  get(d.mean_points_per_room);
+  get(d.extract_seconds);
+  get(d.render_seconds);
+  for (double& m : d.mean_features_per_room) get(m);
+  d.labels.assign(rooms, 0);
+  for (int& l : d.labels) get(l);
+  d.descriptors.assign(d.feature_types.size(), std::vector<std::vector<float>>(rooms));
+  for (auto& type : d.descriptors) {
+    for (auto& room : type) {
+      std::uint64_t count = 0;
+      if (!get(count) || count > (1u << 28)) return false;
+      room.resize(count);
+      in.read(reinterpret_cast<char*>(room.data()), static_cast<std::streamsize>(count * sizeof(float)));
+    }
   }
   return static_cast<bool>(in);
 }
@@ -94,13 +109,22 @@ int main(int argc, char** argv) {
   o.esamme.base = eval::RoomsBaseSet();
   o.esamme.seed = o.seed;
   eval::RoomsData data;
-  if (cache.empty() || !LoadBags(cache, data)) {
-    data = eval::MakeRoomsData(o);
-    if (!cache.empty()) SaveBags(cache, data);
-  } else {
-    std::printf("(bags of words read from %s)\n", cache.c_str());
+  bool cached = false;
+  if (!cache.empty()) {
+    data = eval::MakeRoomsData([&] {  // the room-independent fields (types, dims, words) without rendering
+      eval::RoomsEvalOptions none = o;
+      none.rooms_per_category = 0;
+      return none;
+    }());
+    cached = LoadRooms(cache, data);
   }
-  const int rooms = static_cast<int>(data.bags.labels.size());
+  if (!cached) {
+    data = eval::MakeRoomsData(o);
+    if (!cache.empty()) SaveRooms(cache, data);
+  } else {
+    std::printf("(descriptors read from %s)\n", cache.c_str());
+  }
+  const int rooms = static_cast<int>(data.labels.size());
   std::printf("Room categorisation (thesis 4.3.3) on %d synthetic rooms (%d per category, seed %llu), %d keyframes "
               "(320x240, Kinect-like sensor), %.0f points per room;\nfeatures per room: fpfh %.0f, shot %.0f, spd %.1f; "
               "render %.1f s, extraction %.1f s in all (%.3f s per keyframe's share)\n",
@@ -108,19 +132,20 @@ int main(int argc, char** argv) {
               data.mean_features_per_room[0], data.mean_features_per_room[1], data.mean_features_per_room[2],
               data.render_seconds, data.extract_seconds, data.extract_seconds / data.keyframes);
   std::printf("E-SAMME: %zu base settings (dtree x3, svm x9, mlp x2), %d rounds, selection %s, z_f %.2f, update %s, "
-              "%d-fold stratified CV\nthesis KF-3D (114 real rooms): test error levels at 0.34 after ~20 rounds; FPFH alone "
-              "0.38, SHOT 0.49 (minima)\n\n",
+              "%d-fold stratified CV, codebooks per fold from its training rooms\nthesis KF-3D (114 real rooms): test "
+              "error levels at 0.34 after ~20 rounds; FPFH alone 0.38, SHOT 0.49 (minima)\n\n",
               o.esamme.base.size(), o.esamme.rounds, engine::SelectionName(o.esamme.selection), o.esamme.sample_factor,
               engine::WeightUpdateName(o.esamme.update), o.folds);
-  const auto folds = engine::StratifiedFolds(data.bags.labels, o.folds, o.seed);
-  const auto t = std::chrono::steady_clock::now();
-  PrintRun("all three", engine::CrossValidate(data.bags, o.esamme, folds), true);
+  const auto folds = engine::StratifiedFolds(data.labels, o.folds, o.seed);
+  auto t = std::chrono::steady_clock::now();
+  const auto bags = eval::FoldBags(data, folds, o.seed);
+  std::printf("(codebooks and bags of words of %d folds: %.1f s)\n", o.folds,
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count());
+  t = std::chrono::steady_clock::now();
+  PrintRun("all three", eval::CrossValidateRooms(bags, o.esamme, folds), true);
   std::printf("(cross-validation of all three types: %.1f s)\n", std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count());
-  for (std::size_t ty = 0; ty < data.bags.feature_types.size(); ++ty) {
-    engine::TrainingSet one = data.bags;
-    one.feature_types = {data.bags.feature_types[ty]};
-    one.features = {data.bags.features[ty]};
-    PrintRun(data.bags.feature_types[ty].c_str(), engine::CrossValidate(one, o.esamme, folds), false);
+  for (std::size_t ty = 0; ty < data.feature_types.size(); ++ty) {
+    PrintRun(data.feature_types[ty].c_str(), eval::CrossValidateRooms(bags, o.esamme, folds, static_cast<int>(ty)), false);
   }
   return 0;
 }
