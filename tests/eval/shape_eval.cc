@@ -385,17 +385,37 @@ std::string ResultTable(const DatasetResult& r) {
                   r.ran_pcl ? std::to_string(r.pcl.confusion.CategoryAccuracy(c)).substr(0, 4).c_str() : "-");
     out << "| " << cats[c] << " " << buf;
   }
-  std::snprintf(buf, sizeof buf, "| %.3f | %.3f |\n", r.ours.confusion.Accuracy(), r.pcl.confusion.Accuracy());
+  const auto pcl_figure = [&](double v, const char* format) {
+    char b[32];
+    std::snprintf(b, sizeof b, format, v);
+    return r.ran_pcl ? std::string(b) : std::string("-");
+  };
+  const auto worst = [&](const Confusion& m) {
+    std::size_t w = 0;
+    for (std::size_t c = 1; c < cats.size(); ++c) w = m.CategoryAccuracy(c) < m.CategoryAccuracy(w) ? c : w;
+    return w;
+  };
+  std::snprintf(buf, sizeof buf, "| %.3f | %s |\n", r.ours.confusion.Accuracy(),
+                pcl_figure(r.pcl.confusion.Accuracy(), "%.3f").c_str());
   out << "| **all** " << buf;
-  std::snprintf(buf, sizeof buf, "| %.2f | %.2f |\n", r.ours.train_s, r.pcl.train_s);
+  const std::size_t ours_worst = worst(r.ours.confusion), pcl_worst = worst(r.pcl.confusion);
+  out << "| worst category | " << cats[ours_worst] << " "
+      << std::to_string(r.ours.confusion.CategoryAccuracy(ours_worst)).substr(0, 4) << " | "
+      << (r.ran_pcl ? cats[pcl_worst] + " " + std::to_string(r.pcl.confusion.CategoryAccuracy(pcl_worst)).substr(0, 4)
+                    : std::string("-"))
+      << " |\n";
+  std::snprintf(buf, sizeof buf, "| %.2f | %s |\n", r.ours.train_s, pcl_figure(r.pcl.train_s, "%.2f").c_str());
   out << "| train [s] " << buf;
-  std::snprintf(buf, sizeof buf, "| %.3f | %.3f |\n", r.ours.predict_s_per_sample, r.pcl.predict_s_per_sample);
+  std::snprintf(buf, sizeof buf, "| %.3f | %s |\n", r.ours.predict_s_per_sample,
+                pcl_figure(r.pcl.predict_s_per_sample, "%.3f").c_str());
   out << "| predict [s / cloud] " << buf;
   for (const auto* m : {&r.ours, &r.pcl}) {
     if (m == &r.pcl && !r.ran_pcl) break;
     out << "\nConfusion (" << (m == &r.ours ? "ours" : "PCL ISM") << "; rows true, columns predicted, last: none)\n\n|";
     for (const auto& c : cats) out << " | " << c.substr(0, 6);
-    out << " | none |\n|" << std::string(cats.size() + 2, '-') << "\n";
+    out << " | none |\n|";
+    for (std::size_t c = 0; c < cats.size() + 2; ++c) out << "---|";
+    out << "\n";
     for (std::size_t i = 0; i < cats.size(); ++i) {
       out << "| " << cats[i];
       for (int v : m->confusion.counts[i]) out << " | " << v;
