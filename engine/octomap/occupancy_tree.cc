@@ -305,6 +305,33 @@ void RequireWholeStream(const std::istringstream& in, const char* what) {
   if (in.fail()) throw Error(ErrorCode::kInvalidArgument, std::string(what) + " is truncated or corrupt", "body");
 }
 
+// liboctomap's own header reader (a protected static member), so that the node bytes checked below are exactly the
+// ones liboctomap goes on to read.
+struct HeaderReader : octomap::AbstractOcTree {
+  using octomap::AbstractOcTree::readHeader;
+};
+
+struct FileHeader {
+  std::string id;
+  unsigned size = 0;
+  std::string_view nodes;  // the bytes after the header's `data` line
+};
+
+FileHeader ReadFileHeader(std::string_view bytes, const char* what) {
+  std::istringstream in(std::string(bytes), std::ios::binary);
+  std::string first_line;
+  std::getline(in, first_line);
+  FileHeader h;
+  double resolution_m = 0;
+  if (!HeaderReader::readHeader(in, h.id, h.size, resolution_m)) {
+    throw Error(ErrorCode::kInvalidArgument, std::string(what) + " has no complete header", "body");
+  }
+  const std::streamoff at = in.good() ? static_cast<std::streamoff>(in.tellg()) : -1;
+  h.nodes = at >= 0 && static_cast<std::size_t>(at) <= bytes.size() ? bytes.substr(static_cast<std::size_t>(at))
+                                                                    : std::string_view{};
+  return h;
+}
+
 
 }  // namespace
 
@@ -312,7 +339,13 @@ void OccupancyTree::ReadOt(std::string_view bytes, std::int64_t stamp_ns) {
   if (bytes.substr(0, kOtMagic.size()) != kOtMagic) {
     throw Error(ErrorCode::kInvalidArgument, "not an OctoMap .ot file (header '# Octomap OcTree file' missing)", "body");
   }
-  CheckOtNodeStream(bytes);  // liboctomap would read past a cut-off stream
+  // liboctomap builds whatever tree type the header names and reads a cut-off node stream past its end: only an
+  // OcTree ("1" is its old name) whose nodes lie whole inside the body goes on.
+  const FileHeader header = ReadFileHeader(bytes, ".ot file");
+  if (header.id != "OcTree" && header.id != "1") {
+    throw Error(ErrorCode::kInvalidArgument, ".ot file holds a '" + header.id + "', not an OcTree", "body");
+  }
+  CheckOtNodeStream(header.nodes);
   std::istringstream in(std::string(bytes), std::ios::binary);
   std::unique_ptr<octomap::AbstractOcTree> read(octomap::AbstractOcTree::read(in));
   if (!read) throw Error(ErrorCode::kInvalidArgument, ".ot file does not decode", "body");
@@ -337,7 +370,9 @@ void OccupancyTree::ReadBt(std::string_view bytes, std::int64_t stamp_ns) {
                 "not an OctoMap .bt file (header '# Octomap OcTree binary file' missing)", "body");
   }
   // Resolution from the header, so the tree is built at the file's resolution (readBinary also sets it).
-  CheckBtNodeStream(bytes);  // liboctomap would read past a cut-off stream
+  // liboctomap reads a cut-off node stream past its end; it reads no nodes when the header's size is 0.
+  const FileHeader header = ReadFileHeader(bytes, ".bt file");
+  if (header.size > 0) CheckBtNodeStream(header.nodes);
   auto fresh = std::make_unique<Impl>(impl_->params);
   std::istringstream in(std::string(bytes), std::ios::binary);
   if (!fresh->tree.readBinary(in)) throw Error(ErrorCode::kInvalidArgument, ".bt file does not decode", "body");

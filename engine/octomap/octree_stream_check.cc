@@ -3,7 +3,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -19,29 +18,6 @@ constexpr std::size_t kBtNodeBytes = 2;  // 2 bits for each of 8 children
 
 [[noreturn]] void Refuse(const std::string& what, const std::string& message) {
   throw Error(ErrorCode::kInvalidArgument, what + ": " + message, "body");
-}
-
-// The offset of the first node byte: the header is read token by token as liboctomap reads it (the first line is the
-// file's magic; then `id`, `size`, `res` with a value, comment lines, and `data` ending the header at its line end).
-std::size_t DataOffset(std::string_view bytes, const std::string& what) {
-  std::istringstream in{std::string(bytes)};
-  std::string line;
-  std::getline(in, line);
-  std::string token;
-  while (in >> token) {
-    if (token == "data") {
-      in.ignore(static_cast<std::streamsize>(bytes.size()), '\n');
-      if (!in) Refuse(what, "no node data after the header");
-      return static_cast<std::size_t>(in.tellg());
-    }
-    if (token == "id" || token == "size" || token == "res") {
-      std::string value;
-      in >> value;
-    } else {
-      in.ignore(static_cast<std::streamsize>(bytes.size()), '\n');  // a comment or an unknown keyword's line
-    }
-  }
-  Refuse(what, "the header has no 'data' line");
 }
 
 // Walks a tree stored depth-first (a node's record, then its children's subtrees in child order): `children(at)` is
@@ -81,24 +57,20 @@ int PopCount(std::uint8_t mask) {
 
 }  // namespace
 
-void CheckOtNodeStream(std::string_view bytes) {
-  const std::string what = ".ot file";
-  const std::size_t start = DataOffset(bytes, what);
+void CheckOtNodeStream(std::string_view node_bytes) {
   // Every node has a record, the leaves at depth 16 too: parents down to depth 15.
-  WalkDepthFirst(bytes, start, kOtNodeBytes, kTreeDepth - 1, what, [&](std::size_t at) {
-    return PopCount(static_cast<std::uint8_t>(bytes[at + 4]));
+  WalkDepthFirst(node_bytes, 0, kOtNodeBytes, kTreeDepth - 1, ".ot file", [&](std::size_t at) {
+    return PopCount(static_cast<std::uint8_t>(node_bytes[at + 4]));
   });
 }
 
-void CheckBtNodeStream(std::string_view bytes) {
-  const std::string what = ".bt file";
-  const std::size_t start = DataOffset(bytes, what);
+void CheckBtNodeStream(std::string_view node_bytes) {
   // Per child two bits: 01 free leaf, 10 occupied leaf, 11 inner node (its own two bytes follow, in child order).
   // Only inner nodes have records, and the children of a depth-15 node are leaves: parents down to depth 14.
-  WalkDepthFirst(bytes, start, kBtNodeBytes, kTreeDepth - 2, what, [&](std::size_t at) {
+  WalkDepthFirst(node_bytes, 0, kBtNodeBytes, kTreeDepth - 2, ".bt file", [&](std::size_t at) {
     int inner = 0;
     for (int b = 0; b < 2; ++b) {
-      const auto mask = static_cast<std::uint8_t>(bytes[at + static_cast<std::size_t>(b)]);
+      const auto mask = static_cast<std::uint8_t>(node_bytes[at + static_cast<std::size_t>(b)]);
       for (int i = 0; i < 4; ++i) inner += ((mask >> (2 * i)) & 3u) == 3u ? 1 : 0;
     }
     return inner;

@@ -9,11 +9,13 @@
 
 namespace anchordb::engine {
 
-// An OcTree .ot body (header lines up to `data`, then per node a 4-byte log-odds value and a child mask). Throws
-// Error(kInvalidArgument, field "body") naming what is wrong.
-void CheckOtNodeStream(std::string_view bytes);
+// The node bytes of an OcTree .ot body (what follows its header's `data` line, found by liboctomap's own header
+// reader): per node a 4-byte log-odds value and a child mask. Throws Error(kInvalidArgument, field "body") naming what
+// is wrong.
+void CheckOtNodeStream(std::string_view node_bytes);
 
-// An OcTree .bt body (header lines up to `data`, then per inner node two bytes holding 2 bits per child).
-void CheckBtNodeStream(std::string_view bytes);
+// The node bytes of an OcTree .bt body whose header gives a size above 0: per inner node two bytes holding 2 bits per
+// child.
+void CheckBtNodeStream(std::string_view node_bytes);
 
 }  // namespace anchordb::engine

@@ -146,7 +146,23 @@ TEST(OctomapTree, EveryCutOfABodyAndAForgedDeepStreamAreRefused) {
   deep_bt += std::string(2, '\0');
   EXPECT_THROW(tree.ReadOt(deep_ot, 1), Error);
   EXPECT_THROW(tree.ReadBt(deep_bt, 1), Error);
+  // The nodes start where liboctomap's header reader says, not at a later `data` line: "res 0.1data" ends the header
+  // for liboctomap (it reads the number, then the keyword), so the forged chain after it is what would be read.
+  const std::string chain_ot = deep_ot.substr(ot_data), chain_bt = deep_bt.substr(bt_data);
+  const std::string hidden = "id OcTree\nsize 64\nres 0.1data\n";
+  EXPECT_THROW(tree.ReadOt("# Octomap OcTree file\n" + hidden + chain_ot + "\ndata\n" + std::string(5, '\0'), 1), Error);
+  EXPECT_THROW(tree.ReadBt("# Octomap OcTree binary file\n" + hidden + chain_bt + "\ndata\n" + std::string(2, '\0'), 1),
+               Error);
+  // Another tree type has other node records: refused before liboctomap reads them.
+  std::string colour = ot;
+  colour.replace(colour.find("id OcTree"), 9, "id ColorOcTree");
+  EXPECT_THROW(tree.ReadOt(colour, 1), Error);
   EXPECT_TRUE(tree.SameLeaves(before));
+  // An empty tree's .bt has no node bytes (size 0) and reads back.
+  OccupancyTree empty;
+  OccupancyTree empty_back;
+  EXPECT_NO_THROW(empty_back.ReadBt(empty.WriteBt(), 1));
+  EXPECT_TRUE(empty_back.SameLeaves(empty));
   // The whole bodies still read.
   OccupancyTree back;
   back.ReadOt(ot, 1);
