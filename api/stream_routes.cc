@@ -42,8 +42,8 @@ std::string JobKey(const JobView& j) {
 }
 
 struct Stream {
-  Stream(std::shared_ptr<std::atomic<int>> open_streams, std::string map_id, std::int64_t from)
-      : open(std::move(open_streams)), map(std::move(map_id)), cursor(from) {}
+  Stream(std::shared_ptr<std::atomic<int>> open_streams, std::string map_id, std::int64_t from, bool resuming)
+      : open(std::move(open_streams)), map(std::move(map_id)), cursor(from), resumed(resuming) {}
   ~Stream() { --*open; }
   Stream(const Stream&) = delete;
   Stream& operator=(const Stream&) = delete;
@@ -51,6 +51,7 @@ struct Stream {
   std::shared_ptr<std::atomic<int>> open;
   std::string map;
   std::int64_t cursor;  // the last event id sent
+  bool resumed;         // Last-Event-ID or after= given: the client may have missed a job's end while away
   bool started = false;
   Clock::time_point deadline{}, last_write{};
   std::map<std::int64_t, std::string> jobs_sent;  // job id -> JobKey last sent (or seen finished at the start)
@@ -70,8 +71,10 @@ bool Poll(Stream& s, EventService& events, JobService& jobs, httplib::DataSink& 
     s.started = true;
     s.deadline = now + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.max_duration_s));
     out = "retry: " + std::to_string(o.retry_ms) + "\n: events of map " + s.map + " after " + std::to_string(s.cursor) + "\n\n";
+    const auto recent_ns = jobs.NowNs() - static_cast<std::int64_t>(o.resume_jobs_s * 1e9);
     for (const JobView& j : jobs.List(s.map, 0, kJobsWatched)) {
-      if (j.status == JobStatus::kQueued || j.status == JobStatus::kRunning) out += Message(s.cursor, "job", ToJson(j));
+      const bool active = j.status == JobStatus::kQueued || j.status == JobStatus::kRunning;
+      if (active || (s.resumed && j.updated_ns >= recent_ns)) out += Message(s.cursor, "job", ToJson(j));
       s.jobs_sent[j.id] = JobKey(j);
     }
   } else if (now >= s.deadline) {
@@ -121,7 +124,7 @@ void RegisterStreamRoutes(Router& router, EventService& events, JobService& jobs
           throw Error(ErrorCode::kOverloaded, "every live stream slot is taken (" + std::to_string(max_streams) +
                                                   " open); retry after 1 s");
         }
-        auto stream = std::make_shared<Stream>(open, map, cursor);
+        auto stream = std::make_shared<Stream>(open, map, cursor, req.has_header("Last-Event-ID") || req.has_param("after"));
         Response r;
         r.content_type = "text/event-stream";
         r.headers["Cache-Control"] = "no-cache";

@@ -47,6 +47,9 @@ struct EventSettings {
     double poll_s = 0.2;           // [s] how often an open stream looks for new events and job progress
     double heartbeat_s = 10.0;     // [s] a comment line when nothing happened (finds dead clients)
     int retry_ms = 500;            // [ms] the reconnection delay the stream tells EventSource clients
+    // [s] a resumed stream (Last-Event-ID or after=) first sends the jobs of the map that ended within this window:
+    // a job that ended while the client was reconnecting is not lost (job messages are states; one may repeat).
+    double resume_jobs_s = 300.0;
   } stream;
 };
 

@@ -24,6 +24,9 @@ void BindEventSettings(SettingsBinder& b, EventSettings& e) {
          &e.stream.max_streams, 1, 1000);
   b.Bind("stream_max_duration_s", "one events:stream response ends after this; the client resumes with Last-Event-ID [s]",
          &e.stream.max_duration_s, 1.0, 3600.0);
+  b.Bind("stream_resume_jobs_s", "a resumed events:stream (Last-Event-ID or after=) first sends the map's jobs that "
+         "ended within this window, so an end that happened while the client reconnected is not lost [s]",
+         &e.stream.resume_jobs_s, 0.0, 86400.0);
   b.Bind("stream_poll_s", "how often an open events:stream looks for new events and job progress [s]", &e.stream.poll_s,
          0.01, 10.0);
 }

@@ -67,6 +67,8 @@ class JobService {
   // Stops a queued or running job: it fails with the error "cancelled" (a running one at its next progress report or
   // interrupted statement). False when the job had finished already; unknown id: kNotFound.
   bool Cancel(std::int64_t id);
+  // The clock of the jobs' created_ns / updated_ns [ns since the Unix epoch].
+  std::int64_t NowNs() const { return clock_.NowNs(); }
   // Jobs marked failed at start-up because a server stop interrupted them.
   int interrupted_at_start() const { return interrupted_at_start_; }
   // Blocks until no job is queued or running (tests); false on timeout.

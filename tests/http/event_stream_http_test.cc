@@ -92,6 +92,7 @@ TEST_F(EventStreamHttpTest, ThousandEventsArriveOnceAndInOrderAcrossForcedReconn
   std::atomic<std::int64_t> stop_after{-1};  // set when the writer is done: the last event id to wait for
   std::atomic<bool> failed{false};
   std::atomic<bool> subscribed{false};
+  std::atomic<bool> job_ended{false};  // a job message with a final status has arrived
   int connections = 0, forced = 0;
   std::string subscriber_error;
   // Joined on every way out of the test (a failed ASSERT returns early): the subscriber stops at its next message.
@@ -108,6 +109,7 @@ TEST_F(EventStreamHttpTest, ThousandEventsArriveOnceAndInOrderAcrossForcedReconn
     sse.set_read_timeout(30, 0);
     std::string last_id;
     std::int64_t since_cut = 0;
+    int after_target = 0;
     while (!failed) {
       SseParser parser;
       httplib::Headers headers;
@@ -125,6 +127,8 @@ TEST_F(EventStreamHttpTest, ThousandEventsArriveOnceAndInOrderAcrossForcedReconn
               if (m.event == "job") {
                 std::lock_guard<std::mutex> lock(mutex);
                 job_messages.push_back(json::parse(m.data));
+                const json& status = job_messages.back()["status"];
+                if (status == "succeeded" || status == "failed" || status == "cancelled") job_ended = true;
               } else {
                 std::lock_guard<std::mutex> lock(mutex);
                 received.push_back(m);
@@ -135,8 +139,13 @@ TEST_F(EventStreamHttpTest, ThousandEventsArriveOnceAndInOrderAcrossForcedReconn
             return !cut && !failed;
           });
       if (cut) ++forced, since_cut = 0;
+      // Done when the last stored event has arrived and the job's final document too (it may come after the last
+      // event); a job that never reports its end is given 30 more connections (each ends within 2 s), then the
+      // assertions below say what is missing.
       const std::int64_t target = stop_after.load();
-      if (target >= 0 && !last_id.empty() && std::stoll(last_id) >= target) return;
+      if (target >= 0 && !last_id.empty() && std::stoll(last_id) >= target) {
+        if (job_ended || ++after_target > 30) return;
+      }
       if (!r && !cut && r.error() != httplib::Error::Canceled && r.error() != httplib::Error::Read) {
         failed = true, subscriber_error = httplib::to_string(r.error());
       }
@@ -198,6 +207,41 @@ TEST_F(EventStreamHttpTest, ThousandEventsArriveOnceAndInOrderAcrossForcedReconn
   const json jobs = Ok("GET", "/v1/jobs?map=home");
   ASSERT_FALSE(jobs["jobs"].empty());
   EXPECT_EQ(jobs["jobs"][0]["id"], ticket["job"]);
+}
+
+// A job that ends while the client is between two responses: the resumed stream sends its final state first (a
+// fresh subscriber, which asked for nothing of the past, is not sent ended jobs).
+TEST_F(EventStreamHttpTest, AJobThatEndedWhileTheClientWasAwayIsSentOnResume) {
+  Start({"--stream_max_duration_s=1", "--stream_poll_s=0.05"});
+  Ok("POST", "/v1/maps", R"({"id":"home","name":"home"})", 201);
+  const json ticket = Ok("POST", "/v1/maps/home:forget", R"({"policy":{"event_max_age_s":1e9},"dry_run":true})", 202);
+  const std::string job_path = "/v1/jobs/" + std::to_string(ticket["job"].get<std::int64_t>());
+  json job = Ok("GET", job_path);
+  for (int i = 0; i < 600 && (job["status"] == "queued" || job["status"] == "running"); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    job = Ok("GET", job_path);
+  }
+  ASSERT_EQ(job["status"], "succeeded") << job.dump();
+  // Each response ends after 1 s: collect the job messages of one whole response.
+  const auto job_messages = [&](const httplib::Headers& headers, const std::string& path) {
+    httplib::Client sse("127.0.0.1", server_->port());
+    sse.set_read_timeout(10, 0);
+    SseParser parser;
+    std::vector<json> jobs;
+    sse.Get(path, headers, [](const httplib::Response& r) { return r.status == 200; },
+            [&](const char* data, std::size_t size) {
+              parser.Feed(data, size, [&](const SseMessage& m) {
+                if (m.event == "job") jobs.push_back(json::parse(m.data));
+              });
+              return true;
+            });
+    return jobs;
+  };
+  const auto resumed = job_messages({{"Last-Event-ID", "0"}}, "/v1/maps/home/events:stream");
+  ASSERT_EQ(resumed.size(), 1u);
+  EXPECT_EQ(resumed[0], job);
+  EXPECT_EQ(job_messages({}, "/v1/maps/home/events:stream?after=0").size(), 1u);
+  EXPECT_TRUE(job_messages({}, "/v1/maps/home/events:stream").empty());
 }
 
 TEST_F(EventStreamHttpTest, StreamSlotsAreBoundedOthersAreServedAndBadRequestsRefused) {
