@@ -40,16 +40,6 @@ FeatureMatrix Rows(const FeatureMatrix& x, const std::vector<int>& idx) {
   return out;
 }
 
-std::vector<int> MaximumSelection(const std::vector<double>& w, int z) {
-  std::vector<int> order(w.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return w[static_cast<std::size_t>(a)] >
-                                                                           w[static_cast<std::size_t>(b)]; });
-  order.resize(static_cast<std::size_t>(z));
-  std::sort(order.begin(), order.end());
-  return order;
-}
-
 std::vector<int> RouletteSelection(const std::vector<double>& w, int z, std::mt19937_64& rng) {
   std::vector<double> cumulative(w.size());
   std::partial_sum(w.begin(), w.end(), cumulative.begin());
@@ -114,6 +104,23 @@ WeightUpdate ParseWeightUpdate(const std::string& name) {
   if (name == "thesis") return WeightUpdate::kThesis;
   if (name == "sklearn") return WeightUpdate::kSklearn;
   throw Error(ErrorCode::kInvalidArgument, "update must be thesis or sklearn", "update");
+}
+
+std::vector<int> MaximumSelection(const std::vector<double>& weights, int z, std::mt19937_64& rng) {
+  // A seeded Fisher-Yates shuffle (portable, unlike std::shuffle) puts equal weights in random order; the stable
+  // sort by weight keeps that order among them.
+  std::vector<int> order(weights.size());
+  std::iota(order.begin(), order.end(), 0);
+  for (std::size_t i = order.size(); i > 1; --i) {
+    const std::size_t j = static_cast<std::size_t>(rng() % i);
+    std::swap(order[i - 1], order[j]);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return weights[static_cast<std::size_t>(a)] > weights[static_cast<std::size_t>(b)];
+  });
+  order.resize(static_cast<std::size_t>(std::clamp(z, 0, static_cast<int>(order.size()))));
+  std::sort(order.begin(), order.end());
+  return order;
 }
 
 void ValidateTraining(const TrainingSet& data, const EsammeOptions& options) {
@@ -204,7 +211,7 @@ EsammeModel TrainEsamme(const TrainingSet& data, const EsammeOptions& options, c
   const double chance = static_cast<double>(k - 1) / k;
 
   for (int round = 0; round < options.rounds; ++round) {
-    const std::vector<int> subset = options.selection == Selection::kMaximum ? MaximumSelection(w, z)
+    const std::vector<int> subset = options.selection == Selection::kMaximum ? MaximumSelection(w, z, rng)
                                                                              : RouletteSelection(w, z, rng);
     std::vector<float> w_all(w.begin(), w.end());
     std::vector<bool> in_subset(static_cast<std::size_t>(n), false);

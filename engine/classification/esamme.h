@@ -23,13 +23,15 @@
 //     whole-set error, so kOutOfBag is meant for kRoulette or kMaximum. The weight update always uses the mistakes
 //     on the whole training set. At e = 0 out of bag (no mistake on m unseen samples, an error bound of about 1/m
 //     rather than proof of perfection) e is floored at 1/(2m) and training goes on (the round changes no weight, the
-//     next differs by its resample); under kMaximum, whose next resample would be the same, it stops as above.
+//     next differs by its resample); under kMaximum, whose next resample takes the same heaviest samples (only the
+//     draw among equal weights differs), it stops as above.
 // learning_rate (shrinkage, nu in (0, 1]) multiplies every alpha: alpha_t = nu * (log((1-e)/e) + log(K-1)).
 // Features are standardised per feature type (mean 0, standard deviation 1 over the training set; a constant
 // dimension is left at 0) before the base classifiers see them; the model keeps the scaling.
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -38,7 +40,8 @@
 namespace anchordb::engine {
 
 // How a round's base classifiers get the weighted training set (thesis 4.2.1):
-//   kMaximum:  the Z = z_f * n samples of greatest weight (ties: lower index first), each once;
+//   kMaximum:  the Z = z_f * n samples of greatest weight, each once; equal weights in a seeded random order (on
+//              class-sorted data with equal weights a lower-index-first rule would take the first classes only);
 //   kRoulette: Z draws with replacement, each sample with probability w_i (seeded);
 //   kWeights:  every sample with its weight for the kinds that accept weights (DTrees), roulette for the others.
 enum class Selection { kMaximum, kRoulette, kWeights };
@@ -120,6 +123,10 @@ struct EsammePrediction {
 // Called after every round with (rounds done, rounds asked); return false to cancel (Train then throws
 // Error(kConflict, "cancelled")).
 using RoundCallback = std::function<bool(int done, int total)>;
+
+// The maximum selection of a round: the indices (ascending) of the min(z, n) samples of greatest weight; among equal
+// weights the order is a random permutation drawn from `rng` (deterministic for a given seed and call sequence).
+std::vector<int> MaximumSelection(const std::vector<double>& weights, int z, std::mt19937_64& rng);
 
 // alpha of a round with weighted error e among K classes (eq. 4.9; e = 0 as described at the top).
 double SammeAlpha(double error, int num_classes, WeightUpdate update);
