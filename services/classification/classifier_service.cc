@@ -51,16 +51,26 @@ Json OptionsJson(const TrainClassifierRequest& r) {
           {"learning_rate", r.learning_rate}, {"unknown", r.unknown}, {"unknown_min_share", r.unknown_min_share}};
 }
 
-std::string EncodeRequest(const TrainClassifierRequest& r) {
+// The job's request document: the options, the staging number of the samples (kept in memory until the job runs)
+// and what the samples are (how many, per class, per feature type the descriptor length) -- not the samples, which
+// would fill the jobs table and every job document served.
+Json JobDocument(const TrainClassifierRequest& r, const engine::TrainingSet& data, std::int64_t staging) {
   Json j = OptionsJson(r);
-  Json samples = Json::array();
-  for (const auto& s : r.samples) samples.push_back({{"label", s.label}, {"features", s.features}});
-  j["samples"] = samples;
-  return j.dump();
+  Json classes = Json::object();
+  std::vector<int> counts(data.class_names.size(), 0);
+  for (int l : data.labels) ++counts[static_cast<std::size_t>(l)];
+  for (std::size_t c = 0; c < counts.size(); ++c) classes[data.class_names[c]] = counts[c];
+  Json dims = Json::object();
+  for (std::size_t t = 0; t < data.feature_types.size(); ++t) dims[data.feature_types[t]] = data.features[t].cols();
+  j["sample_count"] = data.labels.size();
+  j["class_counts"] = classes;
+  j["feature_dims"] = dims;
+  j["staging"] = staging;
+  return j;
 }
 
-TrainClassifierRequest DecodeRequest(const std::string& text) {
-  const Json j = Json::parse(text);
+// The options of a job document (the samples come from the staging area).
+TrainClassifierRequest DecodeOptions(const Json& j) {
   TrainClassifierRequest r;
   r.name = j.at("name").get<std::string>();
   for (const Json& s : j.at("base")) r.base.push_back(SettingOf(s));
@@ -70,13 +80,10 @@ TrainClassifierRequest DecodeRequest(const std::string& text) {
   r.folds = j.at("folds").get<int>();
   r.seed = j.at("seed").get<std::uint64_t>();
   r.update = engine::ParseWeightUpdate(j.at("update").get<std::string>());
-  r.error_on = engine::ParseErrorMeasure(j.value("error_on", std::string("whole")));  // absent in older requests
+  r.error_on = engine::ParseErrorMeasure(j.value("error_on", std::string("whole")));
   r.learning_rate = j.value("learning_rate", 1.0);
   r.unknown = j.at("unknown").get<bool>();
   r.unknown_min_share = j.at("unknown_min_share").get<double>();
-  for (const Json& s : j.at("samples")) {
-    r.samples.push_back({s.at("label").get<std::string>(), s.at("features").get<std::map<std::string, std::vector<float>>>()});
-  }
   return r;
 }
 
@@ -203,12 +210,22 @@ ClassifierService::ClassifierService(storage::Store& store, JobService& jobs, Fe
   JobKind kind;
   kind.name = "classifier_train";
   kind.first_stage = "cross-validating";
-  kind.check = [](const JobSubmission& s) {  // before anything is queued
-    const TrainClassifierRequest r = DecodeRequest(s.request);
-    engine::ValidateTraining(TrainingSetOf(r), OptionsOf(r));
+  kind.check = [](const JobSubmission& s) {  // SubmitTraining validated the samples; the document must decode
+    const TrainClassifierRequest r = DecodeOptions(Json::parse(s.request));
+    json::CheckId(r.name, "name");
   };
-  kind.run = [&store = store_, &clock = clock_](JobContext& job) -> std::optional<std::string> {
-    const TrainClassifierRequest r = DecodeRequest(job.request());
+  kind.run = [&store = store_, &clock = clock_, staging_area = staging_](JobContext& job) -> std::optional<std::string> {
+    const Json document = Json::parse(job.request());
+    TrainClassifierRequest r = DecodeOptions(document);
+    {
+      std::lock_guard<std::mutex> lock(staging_area->mutex);
+      auto it = staging_area->staged.find(document.at("staging").get<std::int64_t>());
+      if (it == staging_area->staged.end()) {
+        throw Error(ErrorCode::kUnprocessable, "the training samples are gone (server restarted)", "samples");
+      }
+      r.samples = std::move(it->second.samples);
+      staging_area->staged.erase(it);
+    }
     const engine::TrainingSet data = TrainingSetOf(r);
     const engine::EsammeOptions options = OptionsOf(r);
     std::optional<engine::CrossValidationReport> cv;
@@ -236,8 +253,46 @@ ClassifierService::ClassifierService(storage::Store& store, JobService& jobs, Fe
   jobs_.Register(std::move(kind));
 }
 
-JobTicket ClassifierService::SubmitTraining(const TrainClassifierRequest& request) {
-  return jobs_.Submit("classifier_train", std::nullopt, EncodeRequest(request));
+JobTicket ClassifierService::SubmitTraining(TrainClassifierRequest request) {
+  // Everything the job would refuse is refused here, before anything is staged or queued.
+  const engine::TrainingSet data = TrainingSetOf(request);
+  engine::ValidateTraining(data, OptionsOf(request));
+  // Samples of jobs that ended without running (cancelled while queued) are dropped first.
+  std::vector<std::pair<std::int64_t, std::int64_t>> waiting;  // staging number, job
+  {
+    std::lock_guard<std::mutex> lock(staging_->mutex);
+    for (const auto& [number, staged] : staging_->staged) {
+      if (staged.job != 0) waiting.emplace_back(number, staged.job);
+    }
+  }
+  for (const auto& [number, job] : waiting) {
+    bool ended = true;
+    try {
+      const JobStatus status = jobs_.Get(job).status;
+      ended = status == JobStatus::kSucceeded || status == JobStatus::kFailed;
+    } catch (const Error&) {
+    }
+    if (ended) {
+      std::lock_guard<std::mutex> lock(staging_->mutex);
+      staging_->staged.erase(number);
+    }
+  }
+  std::int64_t staging = 0;
+  {
+    std::lock_guard<std::mutex> lock(staging_->mutex);
+    staging = staging_->next++;
+    staging_->staged[staging].samples = std::move(request.samples);
+  }
+  try {
+    JobTicket ticket = jobs_.Submit("classifier_train", std::nullopt, JobDocument(request, data, staging).dump());
+    std::lock_guard<std::mutex> lock(staging_->mutex);
+    if (auto it = staging_->staged.find(staging); it != staging_->staged.end()) it->second.job = ticket.job;
+    return ticket;
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(staging_->mutex);
+    staging_->staged.erase(staging);
+    throw;
+  }
 }
 
 std::vector<ClassifierView> ClassifierService::List() {

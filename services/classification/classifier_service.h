@@ -27,7 +27,9 @@ class ClassifierService {
   // Validates everything before queueing: a bad name, no samples, an empty class name, samples without every feature
   // type or with descriptors of differing length, NaN, fewer than two classes, a class with one sample, folds outside
   // [2, samples] (or 0), absurd rounds or settings: Error naming the field; nothing is queued or stored.
-  JobTicket SubmitTraining(const TrainClassifierRequest& request);
+  // The job's request document holds the options and the sample, class and feature-type counts, not the samples:
+  // those wait in memory until the job runs (a job interrupted by a restart fails, as every job does).
+  JobTicket SubmitTraining(TrainClassifierRequest request);
   std::vector<ClassifierView> List();
   // Unknown name: kNotFound.
   ClassifierView Get(const std::string& name);
@@ -48,6 +50,17 @@ class ClassifierService {
   const Clock& clock_;
   std::mutex mutex_;
   std::map<std::string, std::pair<std::int64_t, std::shared_ptr<const engine::EsammeModel>>> cache_;  // by name
+  struct Staged {
+    std::vector<ClassifierSample> samples;
+    std::int64_t job = 0;  // 0 until the job is queued
+  };
+  // The samples of queued jobs, shared with the job runner (which may outlive a call, not the JobService).
+  struct StagingArea {
+    std::mutex mutex;
+    std::map<std::int64_t, Staged> staged;  // by staging number (in the job's request)
+    std::int64_t next = 1;
+  };
+  std::shared_ptr<StagingArea> staging_ = std::make_shared<StagingArea>();
 };
 
 }  // namespace anchordb::services

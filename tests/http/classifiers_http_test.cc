@@ -146,6 +146,38 @@ TEST_F(ClassifiersHttpTest, TrainReportPredictAndRestart) {
   Call("POST", "/v1/classifiers/nothing:predict", probe, 404);
 }
 
+// The training job's document (the 202 ticket, GET /v1/jobs/{id}, the job list) keeps the options and says how many
+// samples of which class and feature type there were; it does not echo the samples.
+TEST_F(ClassifiersHttpTest, TrainingJobDocumentHoldsCountsNotSamples) {
+  Start();
+  const json body = Training("rooms");
+  const json ticket = Call("POST", "/v1/classifiers", body, 202);
+  const std::int64_t id = ticket["job"].get<std::int64_t>();
+  const json done = WaitJob(id);
+  ASSERT_EQ(done.value("status", ""), "succeeded") << done.dump();
+  const json jobs = Call("GET", "/v1/jobs", {}, 200);
+  json listed;
+  for (const json& j : jobs["jobs"]) if (j["id"] == id) listed = j;
+  ASSERT_TRUE(listed.is_object()) << jobs.dump().substr(0, 400);
+  for (const json& request : {ticket["request"], done["request"], listed["request"]}) {
+    ASSERT_TRUE(request.is_object()) << request.dump();
+    EXPECT_FALSE(request.contains("samples")) << request.dump().substr(0, 300);
+    EXPECT_EQ(request["name"], "rooms");
+    EXPECT_EQ(request["rounds"], 10);
+    EXPECT_EQ(request["folds"], 4);
+    EXPECT_EQ(request["seed"], 3);
+    EXPECT_EQ(request["base"].size(), 5u);  // the SVM's C grid {1, 10} is two settings
+    EXPECT_EQ(request["sample_count"], 60);
+    EXPECT_EQ(request["class_counts"], json({{"kitchen", 20}, {"bathroom", 20}, {"office", 20}}));
+    EXPECT_EQ(request["feature_dims"], json({{"signal", 2}, {"noise", 3}}));
+    EXPECT_LT(request.dump().size(), body.dump().size() / 4);
+  }
+  // A second training (the staged samples of the first are gone) still runs, and the model predicts.
+  const json again = Call("POST", "/v1/classifiers", Training("rooms2"), 202);
+  ASSERT_EQ(WaitJob(again["job"].get<std::int64_t>()).value("status", ""), "succeeded");
+  EXPECT_EQ(Call("POST", "/v1/classifiers/rooms2:predict", {{"samples", Samples(1, 7, false)}}, 200)["predictions"].size(), 3u);
+}
+
 TEST_F(ClassifiersHttpTest, TrainingCanBeCancelled) {
   Start();
   json slow = Training("slow");
