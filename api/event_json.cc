@@ -144,8 +144,14 @@ Json EventJson(const EventView& e) {
 Json EventPageJson(const EventPage& page) { return PageJson("events", page.events, page.next_after, EventJson); }
 
 Json InstanceJson(const InstanceView& r) {
+  Json classification = nullptr;
+  if (r.classification) {
+    const auto& k = *r.classification;
+    classification = {{"classifier", k.classifier}, {"label", k.label}, {"distribution", Json(k.distribution)},
+                      {"segment", OrNull(k.segment_id)}, {"keyframe", OrNull(k.keyframe_id)}, {"stamp_ns", k.stamp_ns}};
+  }
   return {{"id", r.id}, {"kind", r.kind}, {"status", r.status}, {"labels", Json(r.labels)},
-          {"label_locked", r.label_locked}, {"pinned", r.pinned}, {"position_m", Vec3(r.position_m)},
+          {"label_source", r.label_source}, {"classification", classification}, {"label_locked", r.label_locked}, {"pinned", r.pinned}, {"position_m", Vec3(r.position_m)},
           {"extent_m", Vec3(r.extent_m)}, {"yaw_rad", r.yaw_rad}, {"last_seen_ns", r.last_seen_ns},
           {"last_scene", OrNull(r.last_scene_id)}, {"created_ns", r.created_ns}, {"updated_ns", r.updated_ns}};
 }
@@ -172,7 +178,7 @@ Json WhereJson(const WhereAnswer& a) {
   for (const auto& k : a.evidence) evidence.push_back({{"keyframe", k.keyframe_id}, {"role", k.role}, {"event", k.event_id}});
   return {{"label", a.label}, {"instance", a.instance_id}, {"present", a.present}, {"position_m", Vec3(a.position_m)},
           {"seen_ns", a.seen_ns}, {"how", a.how}, {"evidence", evidence}, {"confidence", a.confidence},
-          {"label_probability", a.label_probability}, {"at_ns", OrNull(a.at_ns)},
+          {"label_probability", a.label_probability}, {"label_source", a.label_source}, {"at_ns", OrNull(a.at_ns)},
           {"placement", a.placement ? PlacementJson(*a.placement) : Json(nullptr)}, {"sentence", a.sentence}};
 }
 

@@ -9,6 +9,7 @@
 #include "api/furniture_routes.h"
 #include "api/grid_routes.h"
 #include "api/job_routes.h"
+#include "api/object_classification_routes.h"
 #include "api/octomap_routes.h"
 #include "api/scene_routes.h"
 #include "api/shape_routes.h"
@@ -26,6 +27,7 @@ void RegisterAllRoutes(Router& router, services::Capabilities& c) {
   RegisterOctomapRoutes(router, c.octomap);
   RegisterFeatureRoutes(router, c.features);
   RegisterClassifierRoutes(router, c.classifiers);
+  RegisterObjectClassificationRoutes(router, c.classifiers);
   RegisterShapeRoutes(router, c.shapes);
   RegisterSegmentationRoutes(router, c.segmentation);
   RegisterStreamRoutes(router, c.events, c.jobs);

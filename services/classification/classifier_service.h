@@ -11,6 +11,7 @@
 
 #include "schema/clock.h"
 #include "services/classification/classifier_types.h"
+#include "services/classification/object_classification.h"
 #include "services/features/feature_service.h"
 #include "services/grid/grid_service.h"
 #include "services/jobs/job_service.h"
@@ -39,6 +40,15 @@ class ClassifierService {
   // label layer. A classifier feature type without a codebook in the map, or whose codebook's word count differs
   // from the classifier's descriptor length: kUnprocessable naming "classifier"; no regions: kInvalidArgument.
   std::vector<RoomClassification> ClassifyRooms(const ClassifyRoomsRequest& request);
+  // Classifies an object instance from its newest segment (services/classification/object_classification.cc): the
+  // points of the segment's box in its keyframe's cloud (the segment's stored sample when that keyframe is gone) ->
+  // the classifier's feature types extracted -> bags of words over the map's codebooks -> the class distribution,
+  // stored as the instance's classification. It becomes the instance's label only when no dialog or operator label
+  // exists. Errors, nothing stored: unknown map, instance or classifier kNotFound; an instance deleted by an operator
+  // or without a segment (entered by hand, or its segments forgotten) kConflict ("instance"); a furniture instance,
+  // too few points, a classifier feature type the server cannot extract (not fpfh, shot or spd), without a codebook
+  // in the map or whose codebook's word count is not the classifier's descriptor length kUnprocessable.
+  InstanceClassificationResult ClassifyInstance(const ClassifyInstanceRequest& request);
 
  private:
   std::shared_ptr<const engine::EsammeModel> Model(const std::string& name);

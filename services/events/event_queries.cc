@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/classification/object_labels.h"
 #include "engine/events/labels.h"
 #include "engine/events/placement.h"
 #include "engine/events/sentences.h"
@@ -85,7 +86,7 @@ LabelResult EventService::LabelInstance(const std::string& map, std::int64_t id,
     details.labels = engine::LabelDistribution(weights);
     e.details_json = EncodeEventDetails(details);
     e.id = storage::InsertEvent(c, e);
-    return LabelResult{ToView(r), ToView(*storage::FindEvent(c, map, e.id)), std::nullopt};
+    return LabelResult{ViewOf(c, r), ToView(*storage::FindEvent(c, map, e.id)), std::nullopt};
   });
 }
 
@@ -135,19 +136,24 @@ InstancePage EventService::ListInstances(const std::string& map, const InstanceQ
     filter.after_id = query.after_id;
     filter.limit = query.limit;
     InstancePage out;
-    for (const auto& r : storage::ListInstances(c, map, filter, false)) out.instances.push_back(ToView(r));
+    std::map<std::int64_t, storage::InstanceClassificationRecord> classified;
+    for (auto& k : storage::ListInstanceClassifications(c, map)) classified.emplace(k.instance_id, std::move(k));
+    for (const auto& r : storage::ListInstances(c, map, filter, false)) {
+      const auto k = classified.find(r.id);
+      out.instances.push_back(ToView(r, k == classified.end() ? std::nullopt : std::optional(k->second)));
+    }
     if (static_cast<int>(out.instances.size()) == query.limit) out.next_after = out.instances.back().id;
     return out;
   });
 }
 
 InstanceView EventService::GetInstance(const std::string& map, std::int64_t id) {
-  return store_.Read([&](storage::Connection& c) { return ToView(RequireInstance(c, map, id)); });
+  return store_.Read([&](storage::Connection& c) { return ViewOf(c, RequireInstance(c, map, id)); });
 }
 
 InstanceHistory EventService::History(const std::string& map, std::int64_t id) {
   return store_.Read([&](storage::Connection& c) {
-    InstanceHistory out{ToView(RequireInstance(c, map, id)), {}};
+    InstanceHistory out{ViewOf(c, RequireInstance(c, map, id)), {}};
     for (const auto& h : storage::ListHistory(c, id)) out.history.push_back({h.seq, h.stamp_ns, h.present, Vec(h.position), h.event_id});
     return out;
   });
@@ -159,7 +165,7 @@ InstanceView EventService::PinInstance(const std::string& map, std::int64_t id, 
     r.pinned = pinned;
     r.updated_ns = clock_.NowNs();
     storage::UpdateInstance(c, r);
-    return ToView(r);
+    return ViewOf(c, r);
   });
 }
 
@@ -170,7 +176,7 @@ InstanceView EventService::DeleteInstance(const std::string& map, std::int64_t i
     r.status_locked = true;  // never revived by later matching or the lost-key rule
     r.updated_ns = clock_.NowNs();
     storage::UpdateInstance(c, r);
-    return ToView(r);
+    return ViewOf(c, r);
   });
 }
 
@@ -206,15 +212,38 @@ WhereAnswer EventService::Where(const std::string& map, const WhereRequest& requ
     f.kind = "object";
     f.label = label;
     f.limit = 100000;
-    const auto instances = storage::ListInstances(c, map, f, false);
+    std::vector<storage::InstanceRecord> instances = storage::ListInstances(c, map, f, false);
     std::vector<engine::WhereCandidate> candidates;
     std::vector<std::optional<storage::HistoryRecord>> positions;
-    for (const auto& r : instances) {
-      const double p = engine::LabelProbability(DecodeLabels(r.labels_json), label);
+    const auto consider = [&](const storage::InstanceRecord& r, double p) {
       positions.push_back(p > 0.0 ? storage::HistoryAt(c, r.id, at_ns.value_or(std::numeric_limits<std::int64_t>::max())) : std::nullopt);
       candidates.push_back({p, positions.back() ? std::optional(positions.back()->stamp_ns) : std::nullopt});
+    };
+    for (const auto& r : instances) consider(r, engine::LabelProbability(DecodeLabels(r.labels_json), label));
+    int chosen = engine::ChooseWhereCandidate(candidates);
+    std::string label_source;
+    if (chosen >= 0) {
+      label_source = instances[static_cast<std::size_t>(chosen)].label_locked ? "operator" : "dialog";
+    } else {
+      // Nobody named an object so: the objects a classifier named that nobody named otherwise
+      // (engine/classification/object_labels.h).
+      instances.clear();
+      candidates.clear();
+      positions.clear();
+      for (const auto& k : storage::ListInstanceClassifications(c, map)) {
+        auto r = storage::FindInstance(c, map, k.instance_id, false);
+        if (!r || r->kind != "object" || r->status == "deleted") continue;
+        const engine::EffectiveLabels labels = engine::EffectiveObjectLabels(DecodeLabels(r->labels_json), r->label_locked,
+                                                                            DecodeDistribution(k));
+        if (labels.source != engine::LabelSource::kClassifier) continue;
+        const auto p = labels.distribution.find(label);
+        if (p == labels.distribution.end()) continue;
+        instances.push_back(std::move(*r));
+        consider(instances.back(), p->second);
+      }
+      chosen = engine::ChooseWhereCandidate(candidates);
+      label_source = "classifier";
     }
-    const int chosen = engine::ChooseWhereCandidate(candidates);
     if (chosen < 0) throw Error(ErrorCode::kNotFound, "nothing labelled '" + label + "' is known" + (at_ns ? " at that time" : ""), "label");
     const storage::InstanceRecord& best = instances[static_cast<std::size_t>(chosen)];
     const storage::HistoryRecord& h = *positions[static_cast<std::size_t>(chosen)];
@@ -254,6 +283,7 @@ WhereAnswer EventService::Where(const std::string& map, const WhereRequest& requ
     a.seen_ns = h.stamp_ns;
     a.how = engine::HowKnown(origin);
     a.label_probability = candidates[static_cast<std::size_t>(chosen)].label_probability;
+    a.label_source = label_source;
     a.confidence = engine::WhereConfidence(a.label_probability, a.how);
     a.at_ns = at_ns;
     return a;

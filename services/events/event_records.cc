@@ -5,6 +5,7 @@
 #include <cstring>
 #include <tuple>
 
+#include "engine/classification/object_labels.h"
 #include "schema/error.h"
 #include "schema/json_io.h"
 #include "storage/blob_codec.h"
@@ -70,12 +71,31 @@ EventView ToView(const storage::EventRecord& e) {
   return v;
 }
 
-InstanceView ToView(const storage::InstanceRecord& r) {
+InstanceView ToView(const storage::InstanceRecord& r) { return ToView(r, std::nullopt); }
+
+engine::LabelWeights DecodeDistribution(const storage::InstanceClassificationRecord& r) {
+  return Json::parse(r.distribution_json).get<engine::LabelWeights>();
+}
+
+InstanceView ViewOf(storage::Connection& c, const storage::InstanceRecord& r) {
+  return ToView(r, storage::FindInstanceClassification(c, r.map_id, r.id));
+}
+
+InstanceView ToView(const storage::InstanceRecord& r, const std::optional<storage::InstanceClassificationRecord>& classification) {
   InstanceView v;
   v.id = r.id;
   v.kind = r.kind;
   v.status = r.status;
-  v.labels = engine::LabelDistribution(DecodeLabels(r.labels_json));
+  std::optional<engine::LabelWeights> classified;
+  if (classification) {
+    classified = DecodeDistribution(*classification);
+    v.classification = ObjectClassificationView{classification->classifier, classification->label, *classified,
+                                                classification->segment_id, classification->keyframe_id,
+                                                classification->stamp_ns};
+  }
+  const engine::EffectiveLabels labels = engine::EffectiveObjectLabels(DecodeLabels(r.labels_json), r.label_locked, classified);
+  v.labels = labels.distribution;
+  v.label_source = engine::LabelSourceName(labels.source);
   v.label_locked = r.label_locked;
   v.pinned = r.pinned;
   v.position_m = Vec(r.position);

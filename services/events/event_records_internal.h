@@ -11,6 +11,7 @@
 #include "services/events/event_details.h"
 #include "services/events/event_types.h"
 #include "storage/event_repository.h"
+#include "storage/instance_classification_repository.h"
 #include "storage/sqlite.h"
 #include "services/common/require.h"
 
@@ -33,6 +34,12 @@ inline Eigen::Vector3d Vec(const double* v) { return {v[0], v[1], v[2]}; }
 
 EventView ToView(const storage::EventRecord& e);
 InstanceView ToView(const storage::InstanceRecord& r);
+// With the instance's classification: the classifier's distribution is the view's labels when nobody named it.
+InstanceView ToView(const storage::InstanceRecord& r, const std::optional<storage::InstanceClassificationRecord>& classification);
+// The view of an instance as stored, with its classification read on `c`.
+InstanceView ViewOf(storage::Connection& c, const storage::InstanceRecord& r);
+// A stored classification's distribution.
+engine::LabelWeights DecodeDistribution(const storage::InstanceClassificationRecord& r);
 
 // Throws Error(kNotFound, field "map") when the map does not exist.
 using services::RequireMap;

@@ -62,11 +62,24 @@ struct EventPage {
 
 // --- Instances -------------------------------------------------------------------------------------------------
 
+// What a trained classifier made of an object instance's segment (POST .../instances/{id}:classify).
+struct ObjectClassificationView {
+  std::string classifier;
+  std::string label;                 // the most probable class
+  engine::LabelWeights distribution;  // every class of the classifier
+  std::optional<std::int64_t> segment_id, keyframe_id;
+  std::int64_t stamp_ns = 0;
+};
+
 struct InstanceView {
   std::int64_t id = 0;
   std::string kind;    // object | furniture
   std::string status;  // present | absent | deleted
-  engine::LabelWeights labels;  // the label distribution (sums to 1, or empty)
+  // The label distribution (sums to 1, or empty): dialog's or an operator's, else a classifier's
+  // (engine/classification/object_labels.h); label_source says which (dialog | operator | classifier | none).
+  engine::LabelWeights labels;
+  std::string label_source = "none";
+  std::optional<ObjectClassificationView> classification;  // the last classification, also when not the label
   bool label_locked = false;
   bool pinned = false;
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
@@ -167,6 +180,7 @@ struct WhereAnswer {
   std::vector<WhereEvidence> evidence;
   double confidence = 0.0;
   double label_probability = 0.0;
+  std::string label_source;  // dialog | operator (a person named it) | classifier (nobody named an instance so)
   std::optional<std::int64_t> at_ns;
   std::optional<WherePlacement> placement;
   std::string sentence;

@@ -1,0 +1,36 @@
+#pragma once
+// SQL for object classifications (migration 0015): a classifier's class distribution per instance, and the segment
+// an instance was last seen as (through its events).
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "storage/event_repository.h"
+#include "storage/sqlite.h"
+
+namespace anchordb::storage {
+
+struct InstanceClassificationRecord {
+  std::int64_t instance_id = 0;
+  std::string map_id;
+  std::string classifier;
+  std::string label;
+  std::string distribution_json = "{}";  // {class: share}
+  std::optional<std::int64_t> segment_id;
+  std::optional<std::int64_t> keyframe_id;
+  std::int64_t stamp_ns = 0;
+};
+// Inserts or replaces the instance's classification.
+void UpsertInstanceClassification(Connection& c, const InstanceClassificationRecord& r);
+std::optional<InstanceClassificationRecord> FindInstanceClassification(Connection& c, const std::string& map_id,
+                                                                       std::int64_t instance_id);
+// Every classification of the map, by instance id.
+std::vector<InstanceClassificationRecord> ListInstanceClassifications(Connection& c, const std::string& map_id);
+
+// The segment of the instance's newest event that has one (added, moved, removed, re-analysed: its points are the
+// object as some keyframe saw it); nullopt when no event of the instance has a segment (entered by hand, or
+// forgetting dropped them).
+std::optional<SegmentRecord> LatestInstanceSegment(Connection& c, const std::string& map_id, std::int64_t instance_id);
+
+}  // namespace anchordb::storage
