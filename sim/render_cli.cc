@@ -8,7 +8,6 @@
 #include <iostream>
 #include <map>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -16,6 +15,7 @@
 #include <vector>
 
 #include "sim/apartment.h"
+#include "sim/png_writer.h"
 #include "sim/renderer.h"
 
 namespace {
@@ -243,24 +243,29 @@ int Run(const Options& o) {
   const double render_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
   const std::vector<float> shade = Shading(frame, K);
-  cv::Mat depth(frame.height, frame.width, CV_16UC1);
-  cv::Mat ids(frame.height, frame.width, CV_8UC3);
+  std::vector<std::uint16_t> depth(static_cast<std::size_t>(frame.width) * frame.height);
+  std::vector<std::uint8_t> ids_rgb(depth.size() * 3);
   std::map<std::int32_t, std::size_t> pixels_per_id;
   std::size_t valid = 0;
   for (int v = 0; v < frame.height; ++v) {
     for (int u = 0; u < frame.width; ++u) {
       const std::size_t i = static_cast<std::size_t>(v) * frame.width + u;
-      depth.at<std::uint16_t>(v, u) = frame.depth_mm[i];
-      const cv::Vec3b colour = IdColour(frame.object_id[i]);
-      for (int c = 0; c < 3; ++c) ids.at<cv::Vec3b>(v, u)[c] = static_cast<uchar>(colour[c] * shade[i]);
+      depth[i] = frame.depth_mm[i];
+      const cv::Vec3b colour = IdColour(frame.object_id[i]);  // BGR
+      for (int c = 0; c < 3; ++c) ids_rgb[i * 3 + c] = static_cast<std::uint8_t>(colour[2 - c] * shade[i]);
       ++pixels_per_id[frame.object_id[i]];
       if (frame.depth_mm[i] != 0) ++valid;
     }
   }
   const std::string depth_path = o.out_prefix + "_depth.png";
   const std::string ids_path = o.out_prefix + "_ids.png";
-  if (!cv::imwrite(depth_path, depth)) throw std::runtime_error("cannot write " + depth_path);
-  if (!cv::imwrite(ids_path, ids)) throw std::runtime_error("cannot write " + ids_path);
+  const auto write = [](const std::string& path, const std::string& png) {
+    std::ofstream file(path, std::ios::binary);
+    file.write(png.data(), static_cast<std::streamsize>(png.size()));
+    if (!file) throw std::runtime_error("cannot write " + path);
+  };
+  write(depth_path, anchordb::sim::WritePngGrey16(depth, frame.width, frame.height));
+  write(ids_path, anchordb::sim::WritePng(ids_rgb, frame.width, frame.height, 3, 8));
 
   const Eigen::Vector3d eye = X_WorldCamera.translation();
   const Eigen::Vector3d axis = X_WorldCamera.linear().col(2);

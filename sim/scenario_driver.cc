@@ -1,12 +1,11 @@
 #include "sim/scenario_driver.h"
 
 #include <httplib.h>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include <stdexcept>
 
 #include "sim/apartment.h"
+#include "sim/png_writer.h"
 
 namespace anchordb::sim {
 
@@ -67,14 +66,12 @@ Primitive PersonBeside(const Eigen::Vector3d& surface, const Eigen::Isometry3d& 
 
 namespace {
 
-// The tracker's dynamic mask as an 8-bit PNG (0 / 255), written here rather than with the server's own codec: the
-// scenario must not share code with what it tests.
+// The tracker's dynamic mask as an 8-bit PNG (0 / 255), written by sim/png_writer.h rather than with the server's
+// own codec: the scenario must not share code with what it tests.
 std::string MaskPng(const std::vector<std::uint8_t>& mask, int width, int height) {
-  cv::Mat m(height, width, CV_8U);
-  for (std::size_t i = 0; i < mask.size(); ++i) m.data[i] = mask[i] ? 255 : 0;
-  std::vector<std::uint8_t> png;
-  cv::imencode(".png", m, png);
-  return std::string(png.begin(), png.end());
+  std::vector<std::uint8_t> m(mask.size());
+  for (std::size_t i = 0; i < mask.size(); ++i) m[i] = mask[i] ? 255 : 0;
+  return WritePng(m, width, height, 1, 8);
 }
 
 }  // namespace

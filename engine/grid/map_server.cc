@@ -5,9 +5,8 @@
 #include <charconv>
 #include <cstring>
 #include <cmath>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
+#include "engine/image/png_codec.h"
 #include "schema/error.h"
 
 namespace anchordb::engine {
@@ -192,17 +191,17 @@ GreyImage DecodeMapImage(std::string_view bytes, std::size_t max_pixels) {
       throw Error(ErrorCode::kPayloadTooLarge, "map image has more than " + std::to_string(max_pixels) + " pixels", "image");
     }
   }
-  const cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data()));
-  cv::Mat decoded = cv::imdecode(raw, cv::IMREAD_UNCHANGED);
-  if (decoded.empty()) throw Error(ErrorCode::kInvalidArgument, "PNG could not be decoded", "image");
-  if (decoded.depth() != CV_8U) throw Error(ErrorCode::kUnprocessable, "map PNG must have 8-bit channels", "image");
-  GreyImage img{decoded.cols, decoded.rows, {}};
+  std::string why;
+  const std::optional<PngImage> decoded = DecodePngImage(bytes, &why);
+  if (!decoded) throw Error(ErrorCode::kInvalidArgument, "PNG could not be decoded (" + why + ")", "image");
+  if (decoded->bit_depth != 8) throw Error(ErrorCode::kUnprocessable, "map PNG must have 8-bit channels", "image");
+  GreyImage img{decoded->width, decoded->height, {}};
   img.pixels.resize(static_cast<std::size_t>(img.width) * img.height);
-  const int channels = decoded.channels();
+  const int channels = decoded->channels;
   const int colour_channels = (channels == 2 || channels == 4) ? channels - 1 : channels;  // alpha is not averaged
-  for (int r = 0; r < decoded.rows; ++r) {
-    const std::uint8_t* row = decoded.ptr<std::uint8_t>(r);
-    for (int c = 0; c < decoded.cols; ++c) {
+  for (int r = 0; r < decoded->height; ++r) {
+    const std::uint8_t* row = decoded->bytes.data() + decoded->row_bytes() * static_cast<std::size_t>(r);
+    for (int c = 0; c < decoded->width; ++c) {
       int sum = 0;
       for (int k = 0; k < colour_channels; ++k) sum += row[c * channels + k];
       img.pixels[static_cast<std::size_t>(r) * img.width + c] = static_cast<std::uint8_t>(sum / colour_channels);
@@ -218,10 +217,7 @@ std::string EncodePgm(const GreyImage& image) {
 }
 
 std::string EncodePng(const GreyImage& image) {
-  const cv::Mat m(image.height, image.width, CV_8U, const_cast<std::uint8_t*>(image.pixels.data()));
-  std::vector<std::uint8_t> buf;
-  cv::imencode(".png", m, buf);
-  return std::string(buf.begin(), buf.end());
+  return EncodePngImage(PngImage{image.width, image.height, 1, 8, image.pixels}, 1);
 }
 
 GridGeometry GeometryOf(const GreyImage& image, const MapServerMeta& meta) {

@@ -1,7 +1,8 @@
 #include "engine/grid/render.h"
 
 #include <cmath>
-#include <opencv2/imgcodecs.hpp>
+
+#include "engine/image/png_codec.h"
 
 namespace anchordb::engine {
 
@@ -33,21 +34,20 @@ GreyImage OccupancyToImage(const OccupancyGrid& o, const OccupancyThresholds& t)
 
 std::string RenderLabelsPng(const LabelGrid& labels) {
   const GridGeometry& g = labels.geometry;
-  cv::Mat img(g.height_cells, g.width_cells, CV_8UC3);
+  PngImage img{g.width_cells, g.height_cells, 3, 8, {}};
+  img.bytes.resize(img.row_bytes() * static_cast<std::size_t>(g.height_cells));
   for (int iy = 0; iy < g.height_cells; ++iy) {
-    auto* row = img.ptr<cv::Vec3b>(g.height_cells - 1 - iy);
+    std::uint8_t* row = img.bytes.data() + img.row_bytes() * static_cast<std::size_t>(g.height_cells - 1 - iy);
     for (int ix = 0; ix < g.width_cells; ++ix) {
       const unsigned id = labels.at(ix, iy);
-      // Golden-ratio hue spacing gives well separated colours for consecutive ids.
-      row[ix] = id == 0 ? cv::Vec3b(255, 255, 255)
-                        : cv::Vec3b(static_cast<std::uint8_t>(60 + (id * 97) % 180),
-                                    static_cast<std::uint8_t>(60 + (id * 57) % 180),
-                                    static_cast<std::uint8_t>(60 + (id * 151) % 180));
+      // Golden-ratio hue spacing gives well separated colours for consecutive ids (red, green, blue).
+      std::uint8_t* px = row + 3 * ix;
+      px[0] = id == 0 ? 255 : static_cast<std::uint8_t>(60 + (id * 151) % 180);
+      px[1] = id == 0 ? 255 : static_cast<std::uint8_t>(60 + (id * 57) % 180);
+      px[2] = id == 0 ? 255 : static_cast<std::uint8_t>(60 + (id * 97) % 180);
     }
   }
-  std::vector<std::uint8_t> buf;
-  cv::imencode(".png", img, buf);
-  return std::string(buf.begin(), buf.end());
+  return EncodePngImage(img, 1);
 }
 
 }  // namespace anchordb::engine

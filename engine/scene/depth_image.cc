@@ -1,14 +1,14 @@
 #include "engine/scene/depth_image.h"
 
 #include <cstring>
-#include <opencv2/imgcodecs.hpp>
 
+#include "engine/image/png_codec.h"
 #include "schema/error.h"
 
 namespace anchordb::engine {
 namespace {
 
-cv::Mat DecodePng(std::string_view bytes, const std::string& field) {
+PngImage DecodePng(std::string_view bytes, const std::string& field) {
   const auto size = PngSize(bytes);
   if (!size) throw Error(ErrorCode::kInvalidArgument, field + ": not a PNG image", field);
   // The header's size decides before anything is allocated: a few bytes may declare gigapixels.
@@ -18,16 +18,17 @@ cv::Mat DecodePng(std::string_view bytes, const std::string& field) {
                     " pixels, more than " + std::to_string(kMaxPngPixels),
                 field);
   }
-  const cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data()));
-  cv::Mat m = cv::imdecode(raw, cv::IMREAD_UNCHANGED);
-  if (m.empty()) throw Error(ErrorCode::kInvalidArgument, field + ": the PNG could not be decoded", field);
-  return m;
+  std::string why;
+  std::optional<PngImage> png = DecodePngImage(bytes, &why);
+  if (!png) throw Error(ErrorCode::kInvalidArgument, field + ": the PNG could not be decoded (" + why + ")", field);
+  return std::move(*png);
 }
 
-std::string Encode(const cv::Mat& m) {
-  std::vector<std::uint8_t> buf;
-  cv::imencode(".png", m, buf, {cv::IMWRITE_PNG_COMPRESSION, 1});
-  return std::string(buf.begin(), buf.end());
+std::string Encode(const void* pixels, std::size_t size_bytes, int width, int height, int bit_depth) {
+  PngImage image{width, height, 1, bit_depth, {}};
+  image.bytes.resize(size_bytes);  // EncodePngImage refuses a size that does not fit width x height
+  if (size_bytes > 0) std::memcpy(image.bytes.data(), pixels, size_bytes);
+  return EncodePngImage(image, 1);
 }
 
 }  // namespace
@@ -48,15 +49,15 @@ std::optional<std::pair<int, int>> PngSize(std::string_view bytes) {
 }
 
 DepthImage DecodeDepthPng(std::string_view bytes, const std::string& field) {
-  const cv::Mat m = DecodePng(bytes, field);
-  if (m.depth() != CV_16U || m.channels() != 1) {
+  const PngImage m = DecodePng(bytes, field);
+  if (m.bit_depth != 16 || m.channels != 1) {
     throw Error(ErrorCode::kInvalidArgument,
                 field + ": depth must be a 16-bit single-channel PNG (16UC1, millimetres); got " +
-                    std::to_string(m.elemSize1() * 8) + "-bit with " + std::to_string(m.channels()) + " channel(s)",
+                    std::to_string(m.bit_depth) + "-bit with " + std::to_string(m.channels) + " channel(s)",
                 field);
   }
-  DepthImage d{m.cols, m.rows, std::vector<std::uint16_t>(m.total())};
-  for (int r = 0; r < m.rows; ++r) std::memcpy(d.pixels.data() + static_cast<std::size_t>(r) * m.cols, m.ptr(r), m.cols * 2);
+  DepthImage d{m.width, m.height, std::vector<std::uint16_t>(static_cast<std::size_t>(m.width) * m.height)};
+  std::memcpy(d.pixels.data(), m.bytes.data(), m.bytes.size());
   return d;
 }
 
@@ -74,30 +75,27 @@ DepthImage DecodeDepthRaw(std::string_view bytes, int width, int height, const s
 }
 
 MaskImage DecodeMaskPng(std::string_view bytes, const std::string& field) {
-  const cv::Mat m = DecodePng(bytes, field);
-  if (m.depth() != CV_8U || m.channels() != 1) {
+  const PngImage m = DecodePng(bytes, field);
+  if (m.bit_depth != 8 || m.channels != 1) {
     throw Error(ErrorCode::kInvalidArgument, field + ": the mask must be an 8-bit single-channel PNG", field);
   }
-  MaskImage out{m.cols, m.rows, std::vector<std::uint8_t>(m.total())};
-  for (int r = 0; r < m.rows; ++r) {
-    const std::uint8_t* row = m.ptr<std::uint8_t>(r);
-    for (int c = 0; c < m.cols; ++c) out.pixels[static_cast<std::size_t>(r) * m.cols + c] = row[c] ? 1 : 0;
-  }
+  MaskImage out{m.width, m.height, std::vector<std::uint8_t>(m.bytes.size())};
+  for (std::size_t i = 0; i < m.bytes.size(); ++i) out.pixels[i] = m.bytes[i] ? 1 : 0;
   return out;
 }
 
 std::string EncodeDepthPng(const std::vector<std::uint16_t>& pixels, int width, int height) {
-  return Encode(cv::Mat(height, width, CV_16U, const_cast<std::uint16_t*>(pixels.data())));
+  return Encode(pixels.data(), pixels.size() * 2, width, height, 16);
 }
 
 std::string EncodeMaskPng(const std::vector<std::uint8_t>& mask, int width, int height) {
-  cv::Mat m(height, width, CV_8U);
-  for (std::size_t i = 0; i < mask.size(); ++i) m.data[i] = mask[i] ? 255 : 0;
-  return Encode(m);
+  std::vector<std::uint8_t> m(mask.size());
+  for (std::size_t i = 0; i < mask.size(); ++i) m[i] = mask[i] ? 255 : 0;
+  return Encode(m.data(), m.size(), width, height, 8);
 }
 
 std::string EncodeGreyPng(const std::vector<std::uint8_t>& grey, int width, int height) {
-  return Encode(cv::Mat(height, width, CV_8U, const_cast<std::uint8_t*>(grey.data())));
+  return Encode(grey.data(), grey.size(), width, height, 8);
 }
 
 }  // namespace anchordb::engine

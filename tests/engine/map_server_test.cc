@@ -3,9 +3,9 @@
 
 #include <gtest/gtest.h>
 
-#include <opencv2/imgcodecs.hpp>
 
 #include "schema/error.h"
+#include "sim/png_writer.h"
 
 namespace anchordb::engine {
 namespace {
@@ -77,13 +77,11 @@ TEST(MapServerImageTest, PgmWithCommentsAndAsciiVariant) {
 TEST(MapServerImageTest, PngRoundTripAndColourAveraging) {
   const GreyImage img = Gradient(9, 4);
   EXPECT_EQ(DecodeMapImage(EncodePng(img), 1000).pixels, img.pixels);
-  cv::Mat rgb(1, 2, CV_8UC3);
-  rgb.at<cv::Vec3b>(0, 0) = {30, 60, 90};
-  rgb.at<cv::Vec3b>(0, 1) = {255, 255, 255};
-  std::vector<std::uint8_t> buf;
-  cv::imencode(".png", rgb, buf);
-  const GreyImage grey = DecodeMapImage(std::string(buf.begin(), buf.end()), 100);
-  EXPECT_EQ(grey.pixels, (std::vector<std::uint8_t>{60, 255}));
+  // RGB and RGBA written by another encoder (sim/png_writer.h): colour averaged, alpha left out.
+  const std::string rgb = sim::WritePng({30, 60, 90, 255, 255, 255}, 2, 1, 3, 8);
+  EXPECT_EQ(DecodeMapImage(rgb, 100).pixels, (std::vector<std::uint8_t>{60, 255}));
+  const std::string rgba = sim::WritePng({30, 60, 90, 0, 255, 255, 255, 7}, 2, 1, 4, 8);
+  EXPECT_EQ(DecodeMapImage(rgba, 100).pixels, (std::vector<std::uint8_t>{60, 255}));
 }
 
 TEST(MapServerImageTest, RejectsGarbageTruncationAndOversize) {
