@@ -4,7 +4,9 @@
 // every category, and per category and codeword a histogram of vote directions (azimuth x polar bins of the
 // keypoint's local frame, towards the sample's centre). Prediction casts one ray per non-empty bin of every
 // activated codeword; a ray counts for a sphere when it passes within the sphere's radius in front of the keypoint,
-// with the weight of eq. 4.7 (p(codeword | feature) * p(direction | codeword)).
+// with the weight of eq. 4.7 (p(codeword | feature) * p(category, direction | codeword), the codeword's histogram
+// over every category's balanced counts). A sphere's weight for a category sums, over the keypoints, log(1 + w / floor)
+// of the keypoint's eq. 4.7 weight w through the sphere (voting.h): agreement of many keypoints, not the mass of a few.
 //
 // Verification mode: one sphere at the centre of a segment -> p(f) over the categories. ShapeDetection mode: spheres on
 // a grid over a room cloud; every sphere of any category whose weight is >= 75 % of the global maximum is a
@@ -90,7 +92,7 @@ ShapeModel TrainShapeModel(const std::vector<LabelledCloud>& samples, const Shap
 struct CategoryScore {
   std::string category;
   double probability = 0;  // p(f): the category's sphere weight / the sum over categories (0 for all if no votes)
-  double weight = 0;       // summed eq. 4.7 weights of the rays through the sphere
+  double weight = 0;       // the sphere's weight: sum over keypoints of log(1 + w / floor), w their eq. 4.7 weights
 };
 struct Verification {
   Eigen::Vector3f centre_m = Eigen::Vector3f::Zero();  // sphere centre: the centroid of the segment

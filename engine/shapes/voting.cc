@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <unordered_map>
 
 #include "schema/error.h"
 
@@ -15,6 +16,11 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr float kMaxRayLengthM = 2.5f;
 // ShapeDetection: at most this many spheres per category (the spacing grows for a larger cloud).
 constexpr std::size_t kMaxSpheres = 400000;
+// A keypoint's rays through a sphere add up to w <= 1 per category (eq. 4.7); the sphere gains log(1 + w / floor)
+// for the category (see voting.h). The floor is the weight below which a keypoint's support counts for little.
+constexpr double kEvidenceFloor = 0.001;
+
+double Evidence(double keypoint_weight) { return std::log1p(keypoint_weight / kEvidenceFloor); }
 
 // The middle direction of a bin in the local frame.
 Eigen::Vector3f BinDirection(int bin, int azimuth_bins, int polar_bins) {
@@ -70,13 +76,24 @@ std::vector<Ray> CastRays(const ShapeModel& model, const LocalFeatures& f) {
   for (std::size_t b = 0; b < directions.size(); ++b) {
     directions[b] = BinDirection(static_cast<int>(b), p.azimuth_bins, p.polar_bins);
   }
+  // Eq. 4.6 over a codeword's whole histogram: its (category, direction) bins, each category's counts being
+  // normalised to sum 1 over its words at training (so that a category with more meshes or keypoints does not
+  // outvote the others).
+  std::vector<double> word_total(static_cast<std::size_t>(words), 0.0);
+  for (const CategoryModel& c : model.categories) {
+    for (int w = 0; w < words && w < static_cast<int>(c.words.size()); ++w) {
+      for (const VoteBin& v : c.words[w]) word_total[w] += v.weight;
+    }
+  }
   std::vector<Ray> rays;
   for (std::size_t k = 0; k < f.positions_m.size(); ++k) {
     const Eigen::Matrix3f to_cloud = f.frames[k].transpose();  // local -> cloud frame
     for (const ActivatedWord& a : activations[k]) {
+      if (!(word_total[a.word] > 0)) continue;
       for (std::size_t c = 0; c < model.categories.size(); ++c) {
         for (const VoteBin& v : model.categories[c].words[a.word]) {
-          rays.push_back(Ray{f.positions_m[k], to_cloud * directions[v.bin], static_cast<int>(c), a.probability * v.weight});
+          rays.push_back(Ray{f.positions_m[k], to_cloud * directions[v.bin], static_cast<int>(c),
+                             static_cast<int>(k), static_cast<float>(a.probability * v.weight / word_total[a.word])});
         }
       }
     }
@@ -85,15 +102,27 @@ std::vector<Ray> CastRays(const ShapeModel& model, const LocalFeatures& f) {
 }
 
 std::vector<double> SphereWeights(const ShapeModel& model, const LocalFeatures& f, const Eigen::Vector3f& centre_m) {
-  std::vector<double> weights(model.categories.size(), 0.0);
+  std::vector<double> weights(model.categories.size(), 0.0), keypoint(model.categories.size(), 0.0);
   const float r = static_cast<float>(model.params.sphere_radius_m);
-  for (const Ray& ray : CastRays(model, f)) {
+  const auto flush = [&] {
+    for (std::size_t c = 0; c < weights.size(); ++c) {
+      if (keypoint[c] > 0) weights[c] += Evidence(keypoint[c]);
+      keypoint[c] = 0;
+    }
+  };
+  int current = -1;
+  for (const Ray& ray : CastRays(model, f)) {  // grouped by keypoint
+    if (ray.keypoint != current) {
+      flush();
+      current = ray.keypoint;
+    }
     const Eigen::Vector3f to_centre = centre_m - ray.origin;
     const float along = to_centre.dot(ray.direction);
     const bool inside = to_centre.squaredNorm() <= r * r;
     if (!inside && (along <= 0 || to_centre.cross(ray.direction).squaredNorm() > r * r)) continue;  // eq. 4.4
-    weights[ray.category] += ray.weight;
+    keypoint[ray.category] += ray.weight;
   }
+  flush();
   return weights;
 }
 
@@ -123,8 +152,15 @@ std::vector<ShapeDetection> DetectSpheres(const ShapeModel& model, const LocalFe
     return Eigen::Vector3f(lo.x() + (x + 0.5f) * spacing, lo.y() + (y + 0.5f) * spacing, lo.z() + (z + 0.5f) * spacing);
   };
   const std::vector<Ray> rays = CastRays(model, f);
+  // One keypoint's weights per (sphere, category), turned into evidence when its rays are done.
+  std::unordered_map<std::size_t, double> keypoint;
+  const auto flush = [&] {
+    for (const auto& [slot, w] : keypoint) accumulator[slot] += Evidence(w);
+    keypoint.clear();
+  };
   for (std::size_t ri = 0; ri < rays.size(); ++ri) {
     const Ray& ray = rays[ri];
+    if (ri > 0 && ray.keypoint != rays[ri - 1].keypoint) flush();
     for (float t = 0; t <= kMaxRayLengthM; t += spacing) {
       const Eigen::Vector3f q = ray.origin + t * ray.direction;
       if ((q.array() < lo.array() - r).any() || (q.array() > hi.array() + r).any()) break;
@@ -138,12 +174,13 @@ std::vector<ShapeDetection> DetectSpheres(const ShapeModel& model, const LocalFe
             const bool inside = to_centre.squaredNorm() <= r * r;
             if (!inside && (to_centre.dot(ray.direction) <= 0 || to_centre.cross(ray.direction).squaredNorm() > r * r)) continue;
             last_ray[id] = static_cast<std::int64_t>(ri);
-            accumulator[id * n_categories + ray.category] += ray.weight;
+            keypoint[id * n_categories + ray.category] += ray.weight;
           }
         }
       }
     }
   }
+  flush();
   const double global_max = *std::max_element(accumulator.begin(), accumulator.end());
   if (!(global_max > 0)) return {};
   struct Sphere {

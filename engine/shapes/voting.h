@@ -31,12 +31,16 @@ struct Ray {
   Eigen::Vector3f origin;
   Eigen::Vector3f direction;  // unit
   int category = 0;
+  int keypoint = 0;  // index of the keypoint that casts it (rays come grouped by keypoint)
   float weight = 0;  // eq. 4.7
 };
 std::vector<Ray> CastRays(const ShapeModel& model, const LocalFeatures& features);
 
-// Per category the summed weight of the rays passing within the sphere radius of `centre_m`, in front of their
-// keypoint (or starting inside the sphere).
+// Per category the weight of a sphere at `centre_m`: each keypoint's rays passing within the sphere radius, in front
+// of the keypoint (or starting inside the sphere), add up to its eq. 4.7 weight w for the category (at most 1: the
+// codeword's histogram sums to 1 over categories and directions); the sphere sums log(1 + w / floor) over the
+// keypoints, i.e. up to a constant the log of the product of the keypoints' (floored) support, so that many
+// keypoints agreeing outweigh a few with concentrated votes.
 std::vector<double> SphereWeights(const ShapeModel& model, const LocalFeatures& features, const Eigen::Vector3f& centre_m);
 
 // ShapeDetection mode over spheres on a grid spanning the cloud's bounding box.
