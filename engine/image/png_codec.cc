@@ -54,6 +54,9 @@ std::optional<PngImage> DecodePngImage(std::string_view png, std::string* why) {
   std::size_t size = 0;
   if (int e = spng_decoded_image_size(ctx.get(), format, &size)) return Fail(why, "bad PNG", e), std::nullopt;
   if (size != out.row_bytes() * static_cast<std::size_t>(out.height)) return Fail(why, "unexpected PNG layout"), std::nullopt;
+  // Deflate expands at most ~1032:1, so a file can only hold so many pixels: a few hundred bytes declaring megapixels
+  // are refused before width x height bytes are allocated and zeroed.
+  if (size / 1032 > png.size() + 1024) return Fail(why, "declares more pixels than its data can hold"), std::nullopt;
   out.bytes.resize(size);
   if (int e = spng_decode_image(ctx.get(), out.bytes.data(), size, format, flags)) {
     return Fail(why, "the PNG could not be decoded", e), std::nullopt;

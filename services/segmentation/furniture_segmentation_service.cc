@@ -18,9 +18,10 @@
 #include "storage/furniture_instance_repository.h"
 
 namespace anchordb::services {
-namespace {
 
-using Json = nlohmann::json;
+using Json = nlohmann::json;  // at namespace scope, as in segmentation_request.cc (one unity batch may hold both)
+
+namespace {
 namespace seg = engine::segmentation;
 
 struct Camera {

@@ -67,6 +67,19 @@ TEST(PngCodecTest, DamagedOrForeignBytesAreRefusedWithAReason) {
   std::string flipped = good;
   flipped[45] = static_cast<char>(flipped[45] ^ 0x5a);  // inside IDAT: its CRC no longer matches
   EXPECT_FALSE(DecodePngImage(flipped, &why));
+  // A header of 4000 x 4000 16-bit pixels on a few bytes of data: refused before 32 MB are allocated.
+  std::string bomb = sim::WritePng(std::vector<std::uint8_t>(2, 0), 1, 1, 1, 16);
+  const char big[8] = {0, 0, 0x0f, static_cast<char>(0xa0), 0, 0, 0x0f, static_cast<char>(0xa0)};
+  bomb.replace(16, 8, big, 8);
+  std::uint32_t crc = 0xffffffffu;  // the IHDR's CRC (type and data, bytes 12-28) made right again
+  for (int i = 12; i < 29; ++i) {
+    crc ^= static_cast<std::uint8_t>(bomb[static_cast<std::size_t>(i)]);
+    for (int k = 0; k < 8; ++k) crc = (crc & 1u) ? 0xedb88320u ^ (crc >> 1) : crc >> 1;
+  }
+  crc = ~crc;
+  for (int k = 0; k < 4; ++k) bomb[static_cast<std::size_t>(29 + k)] = static_cast<char>((crc >> (24 - 8 * k)) & 0xffu);
+  EXPECT_FALSE(DecodePngImage(bomb, &why));
+  EXPECT_NE(why.find("more pixels"), std::string::npos) << why;
   EXPECT_THROW(EncodePngImage(PngImage{4, 4, 1, 8, std::vector<std::uint8_t>(15)}), std::invalid_argument);
   EXPECT_THROW(EncodePngImage(PngImage{4, 4, 5, 8, std::vector<std::uint8_t>(80)}), std::invalid_argument);
 }
