@@ -12,6 +12,8 @@
 namespace anchordb::eval {
 namespace {
 
+constexpr std::size_t kCodebookSample = 15000;  // descriptors per type and fold that k-means sees
+
 double Since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
@@ -104,6 +106,24 @@ engine::TrainingSet BagsOfWords(const RoomsData& d, const std::vector<int>& code
     for (int r : codebook_rooms) {
       const auto& flat = d.descriptors[ty][static_cast<std::size_t>(r)];
       pooled.insert(pooled.end(), flat.begin(), flat.end());
+    }
+    // k-means on a seeded sample of at most kCodebookSample descriptors (48 training rooms hold ~45,000 of each
+    // type; the SHOT ones took most of the codebooks' time), every room's descriptors still coded below.
+    const std::size_t n = pooled.size() / static_cast<std::size_t>(dims);
+    if (n > kCodebookSample) {
+      std::vector<std::size_t> order(n);
+      for (std::size_t i = 0; i < n; ++i) order[i] = i;
+      std::mt19937_64 rng(seed * 7919 + ty);
+      for (std::size_t i = 0; i < kCodebookSample; ++i) {  // partial Fisher-Yates: the first kCodebookSample
+        std::swap(order[i], order[i + static_cast<std::size_t>(rng() % (n - i))]);
+      }
+      std::vector<float> sample;
+      sample.reserve(kCodebookSample * static_cast<std::size_t>(dims));
+      for (std::size_t i = 0; i < kCodebookSample; ++i) {
+        const auto at = pooled.begin() + static_cast<std::ptrdiff_t>(order[i] * static_cast<std::size_t>(dims));
+        sample.insert(sample.end(), at, at + dims);
+      }
+      pooled = std::move(sample);
     }
     const engine::Codebook book = engine::BuildCodebook(pooled, dims, words, seed);
     engine::FeatureMatrix m(static_cast<Eigen::Index>(rooms), words);

@@ -40,7 +40,7 @@ struct RoomsData {
 RoomsData MakeRoomsData(const RoomsEvalOptions& options);
 
 // The bags of words of every room (feature types as in `data`), over one codebook per type built by seeded k-means
-// from the descriptors of the rooms `codebook_rooms` only.
+// from the descriptors of the rooms `codebook_rooms` only (a seeded sample of 15,000 of them when there are more).
 engine::TrainingSet BagsOfWords(const RoomsData& data, const std::vector<int>& codebook_rooms, std::uint64_t seed);
 
 // Per fold f, BagsOfWords over the rooms outside fold f (k-means seeded seed + f).
