@@ -48,12 +48,14 @@ int Whole(const Json& j, const std::string& key, int fallback, const std::string
 
 void AddBase(const Json& j, const std::string& field, std::vector<engine::BaseSetting>& out) {
   if (!j.is_object()) throw Error(ErrorCode::kInvalidArgument, "a base classifier setting is an object", field);
-  json::RejectUnknownKeys(j, {"kind", "C", "gamma", "max_depth", "min_samples", "hidden", "iterations", "k"}, field);
+  json::RejectUnknownKeys(j, {"kind", "C", "gamma", "gamma_per_dim", "max_depth", "min_samples", "hidden", "iterations", "k"},
+                          field);
   engine::BaseSetting s;
   s.kind = engine::ParseBaseKind(json::RequireString(j, "kind", 16, field));
   switch (s.kind) {
     case engine::BaseKind::kSvm:
-      for (const auto& grid_member : engine::SvmGrid(NumberOrList(j, "C", 1.0, field), NumberOrList(j, "gamma", 0.1, field))) {
+      for (const auto& grid_member : engine::SvmGrid(NumberOrList(j, "C", 1.0, field), NumberOrList(j, "gamma", 0.1, field),
+                                                     json::BoolOr(j, "gamma_per_dim", false, field))) {
         out.push_back(grid_member);
       }
       return;

@@ -25,21 +25,27 @@ struct BaseSetting {
   BaseKind kind = BaseKind::kDTree;
   double svm_c = 1.0;               // SVM soft margin C (> 0)
   double svm_gamma = 0.1;           // RBF kernel gamma (> 0), on standardised features
+  // When true the kernel's gamma is svm_gamma / d, d the descriptor length of the feature type it is trained on:
+  // exp(-svm_gamma * |x - y|^2 / d), the same width relative to the mean squared distance of standardised samples
+  // (2 d) for every descriptor length (scikit-learn's gamma = "scale" at svm_gamma 1).
+  bool svm_gamma_per_dim = false;
   int tree_max_depth = 1;           // 1 = decision stump
   int tree_min_samples = 2;         // fewest samples a node needs to be split
   std::vector<int> mlp_hidden{16};  // neurons per hidden layer (1-3 layers)
   int mlp_iterations = 200;         // RPROP epochs
   int knn_k = 3;                    // neighbours voting
-  // A stable short name, e.g. "svm(C=1,gamma=0.1)", "dtree(depth=1,min=2)", "mlp(16)", "knn(k=3)".
+  // A stable short name, e.g. "svm(C=1,gamma=0.1)" ("gamma=1/d" per dimension), "dtree(depth=1,min=2)", "mlp(16)", "knn(k=3)".
   std::string Name() const;
 };
 
 // Throws Error(kInvalidArgument, field) when a value is out of its range.
 void ValidateBaseSetting(const BaseSetting& setting, const std::string& field);
 
-// The SVM grid of every (C, gamma) pair.
-std::vector<BaseSetting> SvmGrid(const std::vector<double>& cs, const std::vector<double>& gammas);
-// A default base set: stumps, trees of depth 3 and 6, an SVM grid, two MLPs, KNN k=1 and k=5.
+// The SVM grid of every (C, gamma) pair (gamma per dimension when `gamma_per_dim`).
+std::vector<BaseSetting> SvmGrid(const std::vector<double>& cs, const std::vector<double>& gammas,
+                                 bool gamma_per_dim = false);
+// A default base set: stumps, trees of depth 3 and 6, an SVM grid (C {1, 10} x gamma {0.1, 1} per dimension), two
+// MLPs, KNN k=1 and k=5.
 std::vector<BaseSetting> DefaultBaseSet();
 
 // A trained base classifier: predicts class indices in [0, K).

@@ -145,7 +145,7 @@ std::vector<EsammePrediction> PredictEsamme(const EsammeModel& model, const std:
 // Every round's class prediction per sample (rounds x n), for staged errors.
 std::vector<std::vector<int>> PredictRounds(const EsammeModel& model, const std::vector<FeatureMatrix>& features);
 
-// The model as a versioned binary blob (magic "ESAM", version 1; base models as OpenCV FileStorage text) and back.
+// The model as a versioned binary blob (magic "ESAM", version 2, version 1 still read; base models as OpenCV FileStorage text) and back.
 // DecodeEsamme throws Error(kUnprocessable) on a damaged or foreign blob.
 std::string EncodeEsamme(const EsammeModel& model);
 EsammeModel DecodeEsamme(const std::string& blob);

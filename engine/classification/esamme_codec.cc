@@ -9,7 +9,8 @@ namespace anchordb::engine {
 namespace {
 
 constexpr char kMagic[4] = {'E', 'S', 'A', 'M'};
-constexpr std::uint32_t kVersion = 1;
+// 2 added BaseSetting::svm_gamma_per_dim (one byte after svm_gamma); version 1 blobs read with it false.
+constexpr std::uint32_t kVersion = 2;
 constexpr std::uint32_t kMaxCount = 1u << 24;
 
 class Writer {
@@ -95,6 +96,7 @@ std::string EncodeEsamme(const EsammeModel& m) {
     w.Pod<std::uint8_t>(static_cast<std::uint8_t>(s.kind));
     w.Pod<double>(s.svm_c);
     w.Pod<double>(s.svm_gamma);
+    w.Pod<std::uint8_t>(s.svm_gamma_per_dim ? 1 : 0);
     w.Pod<std::int32_t>(s.tree_max_depth);
     w.Pod<std::int32_t>(s.tree_min_samples);
     w.Pod<std::uint32_t>(static_cast<std::uint32_t>(s.mlp_hidden.size()));
@@ -118,7 +120,8 @@ std::string EncodeEsamme(const EsammeModel& m) {
 EsammeModel DecodeEsamme(const std::string& blob) {
   Reader r(blob);
   for (char c : kMagic) if (r.Pod<char>() != c) Reader::Fail();
-  if (r.Pod<std::uint32_t>() != kVersion) throw Error(ErrorCode::kUnprocessable, "unsupported E-SAMME model version");
+  const std::uint32_t version = r.Pod<std::uint32_t>();
+  if (version < 1 || version > kVersion) throw Error(ErrorCode::kUnprocessable, "unsupported E-SAMME model version");
   EsammeModel m;
   for (auto k = r.Count(); k > 0; --k) m.class_names.push_back(r.Str());
   for (auto t = r.Count(); t > 0; --t) {
@@ -137,6 +140,11 @@ EsammeModel DecodeEsamme(const std::string& blob) {
     s.kind = static_cast<BaseKind>(kind);
     s.svm_c = r.Pod<double>();
     s.svm_gamma = r.Pod<double>();
+    if (version >= 2) {
+      const auto per_dim = r.Pod<std::uint8_t>();
+      if (per_dim > 1) Reader::Fail();
+      s.svm_gamma_per_dim = per_dim == 1;
+    }
     s.tree_max_depth = r.Pod<std::int32_t>();
     s.tree_min_samples = r.Pod<std::int32_t>();
     s.mlp_hidden.clear();

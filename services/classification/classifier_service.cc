@@ -20,7 +20,11 @@ using engine::BaseSetting;
 Json SettingJson(const BaseSetting& s) {
   Json j = {{"kind", engine::BaseKindName(s.kind)}};
   switch (s.kind) {
-    case engine::BaseKind::kSvm: j["C"] = s.svm_c; j["gamma"] = s.svm_gamma; break;
+    case engine::BaseKind::kSvm:
+      j["C"] = s.svm_c;
+      j["gamma"] = s.svm_gamma;
+      if (s.svm_gamma_per_dim) j["gamma_per_dim"] = true;
+      break;
     case engine::BaseKind::kDTree: j["max_depth"] = s.tree_max_depth; j["min_samples"] = s.tree_min_samples; break;
     case engine::BaseKind::kMlp: j["hidden"] = s.mlp_hidden; j["iterations"] = s.mlp_iterations; break;
     case engine::BaseKind::kKnn: j["k"] = s.knn_k; break;
@@ -33,6 +37,7 @@ BaseSetting SettingOf(const Json& j) {
   s.kind = engine::ParseBaseKind(j.at("kind").get<std::string>());
   s.svm_c = j.value("C", s.svm_c);
   s.svm_gamma = j.value("gamma", s.svm_gamma);
+  s.svm_gamma_per_dim = j.value("gamma_per_dim", false);
   s.tree_max_depth = j.value("max_depth", s.tree_max_depth);
   s.tree_min_samples = j.value("min_samples", s.tree_min_samples);
   s.mlp_hidden = j.value("hidden", s.mlp_hidden);

@@ -290,6 +290,28 @@ TEST(EsammeTest, EveryKindRoundTripsThroughTheBlob) {
   EXPECT_THROW(DecodeEsamme("not a model"), Error);
 }
 
+TEST(EsammeTest, SvmGammaPerDimensionIsGammaOverTheDescriptorLength) {
+  const TrainingSet data = Gaussians(3, 30, 8, 1.0, 5);
+  EsammeOptions per_dim, absolute;
+  per_dim.base = SvmGrid({1.0}, {1.0}, true);
+  absolute.base = SvmGrid({1.0}, {1.0 / 8});
+  for (EsammeOptions* o : {&per_dim, &absolute}) {
+    o->selection = Selection::kRoulette;
+    o->rounds = 4;
+  }
+  EXPECT_EQ(per_dim.base[0].Name(), "svm(C=1,gamma=1/d)");
+  EXPECT_EQ(absolute.base[0].Name(), "svm(C=1,gamma=0.125)");
+  const EsammeModel model = TrainEsamme(data, per_dim);
+  // The same kernel as gamma 1/8 on these 8 dimensions: every round predicts the same.
+  EXPECT_EQ(PredictRounds(model, data.features), PredictRounds(TrainEsamme(data, absolute), data.features));
+  // The setting survives the blob (version 2).
+  const EsammeModel back = DecodeEsamme(EncodeEsamme(model));
+  ASSERT_EQ(back.settings.size(), 1u);
+  EXPECT_TRUE(back.settings[0].svm_gamma_per_dim);
+  EXPECT_EQ(back.settings[0].Name(), "svm(C=1,gamma=1/d)");
+  EXPECT_EQ(PredictRounds(back, data.features), PredictRounds(model, data.features));
+}
+
 TEST(EsammeTest, SameSeedSameModel) {
   const TrainingSet data = Gaussians(3, 25, 2, 1.5, 4);
   EsammeOptions options;

@@ -3,7 +3,7 @@
 //   anchordb_eval_esamme --data DIR --config stumps|full|reduced [--rounds 50] [--update thesis|sklearn]
 //                        [--selection weights|maximum|roulette] [--sample_factor 0.6] [--seed 1]
 //                        [--error_on whole|out_of_bag] [--learning_rate 1]
-// full: DefaultBaseSet() (stumps, trees of depth 3 and 6, SVM RBF C {1,10} x gamma {0.01,0.1}, MLP 16 and 48, KNN 1
+// full: DefaultBaseSet() (stumps, trees of depth 3 and 6, SVM RBF C {1,10} x gamma {0.1,1}/d, MLP 16 and 48, KNN 1
 // and 5); reduced: the same less depth 6 and 1-NN. Defaults: sklearn update, weighted fits, whole-set error.
 #include <chrono>
 #include <cstdio>

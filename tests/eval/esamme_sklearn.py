@@ -90,10 +90,12 @@ def main():
         print(f"{row['data set']:14s}" + "".join(f"{row[c][0]:>22.4f} ({row[c][1]:6.2f}s)" for c in columns))
     print("\nE-SAMME full >= the better sklearn SAMME variant:")
     for row in rows:
-        best = max(row["sklearn depth 1"][0], row["sklearn depth 3"][0])
-        ours = row["E-SAMME full"][0]
-        print(f"  {row['data set']:14s} {ours:.4f} vs {best:.4f}: {'yes' if ours >= best else 'NO'}"
-              f" ({(ours - best) * row['n']:+.0f} samples)")
+        # Compared in correctly classified samples: anchordb_eval_esamme prints the accuracy with 4 decimals, so 143/150
+        # reads 0.9533 against scikit-learn's exact 0.95333.
+        best = max(round(row["sklearn depth 1"][0] * row["n"]), round(row["sklearn depth 3"][0] * row["n"]))
+        ours = round(row["E-SAMME full"][0] * row["n"])
+        print(f"  {row['data set']:14s} {ours / row['n']:.4f} vs {best / row['n']:.4f}: {'yes' if ours >= best else 'NO'}"
+              f" ({ours - best:+d} samples)")
 
 
 if __name__ == "__main__":
