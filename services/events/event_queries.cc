@@ -136,12 +136,8 @@ InstancePage EventService::ListInstances(const std::string& map, const InstanceQ
     filter.after_id = query.after_id;
     filter.limit = query.limit;
     InstancePage out;
-    std::map<std::int64_t, storage::InstanceClassificationRecord> classified;
-    for (auto& k : storage::ListInstanceClassifications(c, map)) classified.emplace(k.instance_id, std::move(k));
-    for (const auto& r : storage::ListInstances(c, map, filter, false)) {
-      const auto k = classified.find(r.id);
-      out.instances.push_back(ToView(r, k == classified.end() ? std::nullopt : std::optional(k->second)));
-    }
+    // Each listed instance's classification by its key: the cost follows the page, not the map's classified objects.
+    for (const auto& r : storage::ListInstances(c, map, filter, false)) out.instances.push_back(ViewOf(c, r));
     if (static_cast<int>(out.instances.size()) == query.limit) out.next_after = out.instances.back().id;
     return out;
   });
