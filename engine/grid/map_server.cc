@@ -182,14 +182,8 @@ GreyImage DecodeMapImage(std::string_view bytes, std::size_t max_pixels) {
     throw Error(ErrorCode::kInvalidArgument, "map image must be a PGM (P5/P2) or PNG file", "image");
   }
   // Read the PNG header's size before decoding so an oversized image is refused without allocating it.
-  if (bytes.size() >= 24) {
-    auto be32 = [&](std::size_t o) {
-      return (std::uint32_t(std::uint8_t(bytes[o])) << 24) | (std::uint32_t(std::uint8_t(bytes[o + 1])) << 16) |
-             (std::uint32_t(std::uint8_t(bytes[o + 2])) << 8) | std::uint32_t(std::uint8_t(bytes[o + 3]));
-    };
-    if (static_cast<std::uint64_t>(be32(16)) * be32(20) > max_pixels) {
-      throw Error(ErrorCode::kPayloadTooLarge, "map image has more than " + std::to_string(max_pixels) + " pixels", "image");
-    }
+  if (const auto size = PngHeaderSize(bytes); size && static_cast<std::uint64_t>(size->first) * size->second > max_pixels) {
+    throw Error(ErrorCode::kPayloadTooLarge, "map image has more than " + std::to_string(max_pixels) + " pixels", "image");
   }
   std::string why;
   const std::optional<PngImage> decoded = DecodePngImage(bytes, &why);

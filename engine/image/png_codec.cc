@@ -3,6 +3,7 @@
 #include <spng.h>
 
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <stdexcept>
 
@@ -20,6 +21,17 @@ bool Fail(std::string* why, const char* what, int code = 0) {
 }
 
 }  // namespace
+
+std::optional<std::pair<std::uint32_t, std::uint32_t>> PngHeaderSize(std::string_view png) {
+  static constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  // The signature, then the IHDR chunk: length (4), "IHDR", width (4, big-endian), height (4).
+  if (png.size() < 24 || std::memcmp(png.data(), kSignature, 8) != 0 || png.substr(12, 4) != "IHDR") return std::nullopt;
+  const auto be32 = [&](std::size_t o) {
+    return (std::uint32_t(std::uint8_t(png[o])) << 24) | (std::uint32_t(std::uint8_t(png[o + 1])) << 16) |
+           (std::uint32_t(std::uint8_t(png[o + 2])) << 8) | std::uint32_t(std::uint8_t(png[o + 3]));
+  };
+  return std::pair<std::uint32_t, std::uint32_t>(be32(16), be32(20));
+}
 
 std::optional<PngImage> DecodePngImage(std::string_view png, std::string* why) {
   Ctx ctx(spng_ctx_new(0));

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace anchordb::engine {
@@ -21,8 +22,12 @@ struct PngImage {
   std::size_t row_bytes() const { return static_cast<std::size_t>(width) * channels * (bit_depth / 8); }
 };
 
+// The (width, height) an IHDR header declares, as written (not range-checked), read without decoding; nullopt when
+// `png` does not start with the PNG signature and an IHDR chunk. Callers bound the size with it before decoding.
+std::optional<std::pair<std::uint32_t, std::uint32_t>> PngHeaderSize(std::string_view png);
+
 // nullopt when `png` is not a PNG or is damaged anywhere (CRC, zlib stream, truncated data); *why says what, when
-// given. The caller bounds the size first (PngSize in scene/depth_image.h): this allocates width x height.
+// given. The caller bounds the size first (PngHeaderSize): this allocates width x height.
 std::optional<PngImage> DecodePngImage(std::string_view png, std::string* why = nullptr);
 
 // A PNG of `image` (channels 1-4, bit depth 8 or 16, bytes of the right size), zlib level `compression_level` (0-9).

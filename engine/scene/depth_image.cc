@@ -34,16 +34,9 @@ std::string Encode(const void* pixels, std::size_t size_bytes, int width, int he
 }  // namespace
 
 std::optional<std::pair<int, int>> PngSize(std::string_view bytes) {
-  static constexpr unsigned char kPngMagic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  // Signature, then the IHDR chunk: length (4), "IHDR", width (4, big-endian), height (4).
-  if (bytes.size() < 24 || std::memcmp(bytes.data(), kPngMagic, 8) != 0 || bytes.substr(12, 4) != "IHDR") {
-    return std::nullopt;
-  }
-  const auto be32 = [&](std::size_t o) {
-    return (std::uint32_t(std::uint8_t(bytes[o])) << 24) | (std::uint32_t(std::uint8_t(bytes[o + 1])) << 16) |
-           (std::uint32_t(std::uint8_t(bytes[o + 2])) << 8) | std::uint32_t(std::uint8_t(bytes[o + 3]));
-  };
-  const std::uint32_t w = be32(16), h = be32(20);
+  const auto size = PngHeaderSize(bytes);
+  if (!size) return std::nullopt;
+  const auto [w, h] = *size;
   if (w == 0 || h == 0 || w > 0x7fffffffu || h > 0x7fffffffu) return std::nullopt;  // the PNG spec's range
   return std::pair<int, int>(static_cast<int>(w), static_cast<int>(h));
 }

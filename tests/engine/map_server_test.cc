@@ -90,6 +90,21 @@ TEST(MapServerImageTest, RejectsGarbageTruncationAndOversize) {
   EXPECT_THROW(DecodeMapImage("P5\n4 4\n65535\n", 100), Error);
   EXPECT_THROW(DecodeMapImage(EncodePgm(Gradient(20, 20)), 100), Error);
   EXPECT_THROW(DecodeMapImage(EncodePng(Gradient(20, 20)), 100), Error);
+  // An oversized PNG is refused as too large from its header alone, also when a dimension is past the PNG spec's
+  // 2^31 - 1 (the header is forged; the rest of the file is not read).
+  const auto code_of = [](const std::string& bytes) {
+    try {
+      DecodeMapImage(bytes, 100);
+    } catch (const Error& e) {
+      return e.code();
+    }
+    return ErrorCode::kInternal;
+  };
+  EXPECT_EQ(code_of(EncodePng(Gradient(20, 20))), ErrorCode::kPayloadTooLarge);
+  std::string forged = EncodePng(Gradient(4, 4));
+  forged[16] = '\x80';  // width 2^31 + 4
+  EXPECT_EQ(code_of(forged), ErrorCode::kPayloadTooLarge);
+  EXPECT_EQ(code_of(EncodePng(Gradient(5, 5))), ErrorCode::kInternal);  // 25 pixels: decoded, nothing thrown
 }
 
 TEST(MapServerOccupancyTest, TrinaryScaleRawAndNegate) {

@@ -80,6 +80,11 @@ TEST(PngCodecTest, DamagedOrForeignBytesAreRefusedWithAReason) {
   for (int k = 0; k < 4; ++k) bomb[static_cast<std::size_t>(29 + k)] = static_cast<char>((crc >> (24 - 8 * k)) & 0xffu);
   EXPECT_FALSE(DecodePngImage(bomb, &why));
   EXPECT_NE(why.find("more pixels"), std::string::npos) << why;
+  // The header's size is read as written, without decoding, also where the decoder refuses the file.
+  EXPECT_EQ(PngHeaderSize(bomb), (std::pair<std::uint32_t, std::uint32_t>(4000, 4000)));
+  EXPECT_EQ(PngHeaderSize(good), (std::pair<std::uint32_t, std::uint32_t>(16, 16)));
+  EXPECT_FALSE(PngHeaderSize(std::string_view(good).substr(0, 23)));
+  EXPECT_FALSE(PngHeaderSize("not a png at all, but long enough"));
   EXPECT_THROW(EncodePngImage(PngImage{4, 4, 1, 8, std::vector<std::uint8_t>(15)}), std::invalid_argument);
   EXPECT_THROW(EncodePngImage(PngImage{4, 4, 5, 8, std::vector<std::uint8_t>(80)}), std::invalid_argument);
 }
