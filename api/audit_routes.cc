@@ -18,6 +18,7 @@ const std::vector<AuditedAction>& AuditedActions() {
       {"POST", "/v1/maps/{map}/instances/{instance}:label", "instance.label", kInstance},
       {"POST", "/v1/maps/{map}/instances/{instance}:pin", "instance.pin", kInstance},
       {"POST", "/v1/maps/{map}/instances/{instance}:unpin", "instance.unpin", kInstance},
+      {"POST", "/v1/maps/{map}/instances/{instance}:classify", "instance.classify", kInstance},
       {"DELETE", "/v1/maps/{map}/instances/{instance}", "instance.delete", kInstance},
       {"POST", "/v1/maps/{map}/instances", "instance.create", nullptr, true},
       {"POST", "/v1/maps/{map}/events/{event}:label", "event.label", "/v1/maps/{map}/events/{event}"},

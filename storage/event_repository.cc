@@ -131,7 +131,14 @@ std::vector<InstanceRecord> ListInstances(Connection& c, const std::string& map_
   if (f.kind) sql += " AND kind = ?3";
   if (f.status) sql += " AND status = ?4";
   else if (!f.include_deleted) sql += " AND status != 'deleted'";
-  if (f.label) sql += " AND id IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1 AND label = ?6)";
+  if (f.label && !f.label_from_classifier) {
+    sql += " AND id IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1 AND label = ?6)";
+  } else if (f.label) {
+    sql += " AND (id IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1 AND label = ?6)"
+           " OR (?6 != 'unknown' AND id NOT IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1)"
+           " AND id IN (SELECT k.instance_id FROM instance_classifications AS k, json_each(k.distribution) AS j"
+           " WHERE k.map_id = ?1 AND j.key = ?6 AND j.value > 0)))";
+  }
   sql += " ORDER BY id LIMIT ?5";
   Statement s(c, sql);
   s.Bind(1, map_id).Bind(2, f.after_id).Bind(5, static_cast<std::int64_t>(f.limit));

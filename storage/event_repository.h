@@ -49,6 +49,10 @@ struct InstanceFilter {
   std::optional<std::string> status;      // exact; default: everything but 'deleted'
   bool include_deleted = false;
   std::optional<std::string> label;       // only instances whose label distribution has this label
+  // With `label`: also an instance nobody named (no dialog or operator label) whose stored classification
+  // (instance_classifications) gives `label` a share > 0, except the rejection class "unknown": the labels such an
+  // instance shows (engine/classification/object_labels.h EffectiveObjectLabels).
+  bool label_from_classifier = false;
   std::int64_t after_id = 0;
   int limit = 100;
 };

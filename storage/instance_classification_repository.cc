@@ -43,16 +43,6 @@ std::optional<InstanceClassificationRecord> FindInstanceClassification(Connectio
   return ClassificationRow(s);
 }
 
-std::vector<InstanceClassificationRecord> ListInstanceClassifications(Connection& c, const std::string& map_id) {
-  Statement s(c,
-              "SELECT instance_id, map_id, classifier, label, distribution, segment_id, keyframe_id, stamp_ns "
-              "FROM instance_classifications WHERE map_id = ? ORDER BY instance_id");
-  s.Bind(1, map_id);
-  std::vector<InstanceClassificationRecord> out;
-  while (s.Step()) out.push_back(ClassificationRow(s));
-  return out;
-}
-
 std::optional<SegmentRecord> LatestInstanceSegment(Connection& c, const std::string& map_id, std::int64_t instance_id) {
   Statement s(c,
               "SELECT e.segment_id FROM events e JOIN segments g ON g.id = e.segment_id "

@@ -4,7 +4,6 @@
 #include <cstdint>
 #include <optional>
 #include <string>
-#include <vector>
 
 #include "storage/event_repository.h"
 #include "storage/sqlite.h"
@@ -25,8 +24,6 @@ struct InstanceClassificationRecord {
 void UpsertInstanceClassification(Connection& c, const InstanceClassificationRecord& r);
 std::optional<InstanceClassificationRecord> FindInstanceClassification(Connection& c, const std::string& map_id,
                                                                        std::int64_t instance_id);
-// Every classification of the map, by instance id.
-std::vector<InstanceClassificationRecord> ListInstanceClassifications(Connection& c, const std::string& map_id);
 
 // The segment of the instance's newest event that has one (added, moved, removed, re-analysed: its points are the
 // object as some keyframe saw it); nullopt when no event of the instance has a segment (entered by hand, or

@@ -131,6 +131,7 @@ InstancePage EventService::ListInstances(const std::string& map, const InstanceQ
     RequireMap(c, map);
     storage::InstanceFilter filter;
     if (query.label) filter.label = engine::NormaliseLabel(*query.label, settings_.max_label_length, "label");
+    filter.label_from_classifier = true;  // the labels the listing shows: a classifier's for an object nobody named
     filter.kind = query.kind;
     filter.status = query.status;
     filter.after_id = query.after_id;
@@ -226,15 +227,16 @@ WhereAnswer EventService::Where(const std::string& map, const WhereRequest& requ
       instances.clear();
       candidates.clear();
       positions.clear();
-      for (const auto& k : storage::ListInstanceClassifications(c, map)) {
-        auto r = storage::FindInstance(c, map, k.instance_id, false);
-        if (!r || r->kind != "object" || r->status == "deleted") continue;
-        const engine::EffectiveLabels labels = engine::EffectiveObjectLabels(DecodeLabels(r->labels_json), r->label_locked,
-                                                                            DecodeDistribution(k));
+      f.label_from_classifier = true;  // only the objects whose classification has the label (an index-backed query)
+      for (auto& r : storage::ListInstances(c, map, f, false)) {
+        const auto k = storage::FindInstanceClassification(c, map, r.id);
+        if (!k) continue;  // named by a person, and found by the first pass's rules
+        const engine::EffectiveLabels labels = engine::EffectiveObjectLabels(DecodeLabels(r.labels_json), r.label_locked,
+                                                                            DecodeDistribution(*k));
         if (labels.source != engine::LabelSource::kClassifier) continue;
         const auto p = labels.distribution.find(label);
         if (p == labels.distribution.end()) continue;
-        instances.push_back(std::move(*r));
+        instances.push_back(std::move(r));
         consider(instances.back(), p->second);
       }
       chosen = engine::ChooseWhereCandidate(candidates);

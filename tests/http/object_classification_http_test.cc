@@ -148,6 +148,15 @@ TEST_F(ObjectClassificationHttpTest, SegmentIsClassifiedOperatorLabelWinsWhereIs
   EXPECT_TRUE(result["applied"].get<bool>());
   EXPECT_EQ(result["label_source"], "classifier");
   EXPECT_EQ(result["features"]["fpfh"]["bag"], probe["features"]["fpfh"]["bag"]);  // deterministic extraction
+  // The listing's label filter finds the object by the labels it shows (the classifier's: nobody named it).
+  const auto listed = [&](const std::string& label) {
+    std::vector<std::int64_t> ids;
+    const json page = Raw("GET", "/v1/maps/home/instances?label=" + label, "", 200);
+    for (const json& i : page["instances"]) ids.push_back(i["id"]);
+    return ids;
+  };
+  EXPECT_EQ(listed("box"), std::vector<std::int64_t>{box});
+  EXPECT_TRUE(listed("unknown").empty());
   const json instance = Raw("GET", "/v1/maps/home/instances/" + std::to_string(box), "", 200);
   EXPECT_EQ(instance["label_source"], "classifier");
   EXPECT_NEAR(instance["labels"]["box"].get<double>(), result["distribution"]["box"].get<double>(), 1e-9);
@@ -207,6 +216,18 @@ TEST_F(ObjectClassificationHttpTest, SegmentIsClassifiedOperatorLabelWinsWhereIs
   EXPECT_EQ(named["classification"]["label"], "box");
   EXPECT_EQ(Raw("GET", "/v1/maps/home/where?label=mug", "", 200)["label_source"], "operator");
   Raw("GET", "/v1/maps/home/where?label=box", "", 404);  // the only box was named a mug by the operator
+  EXPECT_TRUE(listed("box").empty());
+  EXPECT_EQ(listed("mug"), std::vector<std::int64_t>{box});
+  // Each classification is in the audit trail with the instance before and after: the first gave it the label box.
+  bool gave_box = false;
+  const json audit = Raw("GET", "/v1/audit?map=home&action=instance.classify&limit=1000", "", 200);
+  for (const json& e : audit["entries"]) {
+    if (e["resource"] == "instance=" + std::to_string(box) && e["status"] == 200 && e["after"]["labels"].contains("box") &&
+        !e["before"]["labels"].contains("box")) {
+      gave_box = true;
+    }
+  }
+  EXPECT_TRUE(gave_box);
 }
 
 }  // namespace
