@@ -6,11 +6,15 @@ namespace anchordb::api {
 
 services::ClassifyInstanceRequest ParseClassifyInstanceRequest(const std::string& map, std::int64_t instance,
                                                                const Json& body) {
-  json::RejectUnknownKeys(body, {"classifier"});
+  json::RejectUnknownKeys(body, {"classifier", "keypoint_spacing_m", "min_points"});
   services::ClassifyInstanceRequest r;
   r.map = map;
   r.instance = instance;
   r.classifier = json::RequireId(body, "classifier");
+  if (body.contains("keypoint_spacing_m")) r.keypoint_spacing_m = json::AsFiniteNumber(body["keypoint_spacing_m"], "keypoint_spacing_m");
+  const std::int64_t min_points = json::IntegerOr(body, "min_points", r.min_points);
+  // The service checks the ranges; a value past int is out of range too.
+  r.min_points = min_points > 1000000 || min_points < 0 ? -1 : static_cast<int>(min_points);
   return r;
 }
 

@@ -22,10 +22,6 @@ namespace {
 
 // The segment's box grows by this much before its keyframe's points are taken [m]: depth noise at its border.
 constexpr double kSegmentMarginM = 0.01;
-// Keypoints of a segment are this dense [m]: the keyframe default (0.15 m) gives a small object one or two features.
-constexpr double kObjectKeypointVoxelM = 0.03;
-// Fewer points than this give no usable descriptors.
-constexpr std::size_t kMinSegmentPoints = 30;
 
 bool ServerExtracts(const std::string& type) { return type == "fpfh" || type == "shot" || type == "spd"; }
 
@@ -60,6 +56,12 @@ const storage::InstanceRecord& RequireClassifiable(const std::optional<storage::
 
 InstanceClassificationResult ClassifierService::ClassifyInstance(const ClassifyInstanceRequest& request) {
   json::CheckId(request.classifier, "classifier");
+  if (!(request.keypoint_spacing_m >= 0.005 && request.keypoint_spacing_m <= 0.5)) {
+    throw Error(ErrorCode::kInvalidArgument, "keypoint_spacing_m must lie in [0.005, 0.5] m", "keypoint_spacing_m");
+  }
+  if (request.min_points < 10 || request.min_points > 1000000) {
+    throw Error(ErrorCode::kInvalidArgument, "min_points must lie in [10, 1000000]", "min_points");
+  }
   struct Inputs {
     storage::SegmentRecord segment;
     std::optional<KeyframeNotice> keyframe;
@@ -125,12 +127,12 @@ InstanceClassificationResult ClassifierService::ClassifyInstance(const ClassifyI
     points = SamplePoints(in.segment.sample);
     sensor_m = Eigen::Vector3d(in.segment.centroid[0], in.segment.centroid[1], in.segment.centroid[2] + 1.0);
   }
-  if (points.size() < kMinSegmentPoints) {
+  if (points.size() < static_cast<std::size_t>(request.min_points)) {
     throw Error(ErrorCode::kUnprocessable, "the instance's segment has " + std::to_string(points.size()) + " points; at least " +
-                                               std::to_string(kMinSegmentPoints) + " are needed", "instance");
+                                               std::to_string(request.min_points) + " are needed (min_points)", "instance");
   }
   engine::ExtractionParams params = features_.settings().extraction;
-  params.keypoint_voxel_m = std::min(params.keypoint_voxel_m, kObjectKeypointVoxelM);
+  params.keypoint_voxel_m = request.keypoint_spacing_m;
   const auto extracted = engine::ExtractFeatures(points, sensor_m, model->feature_types, params);
   InstanceClassificationResult result;
   std::vector<engine::FeatureMatrix> features;

@@ -17,6 +17,11 @@ struct ClassifyInstanceRequest {
   std::string map;
   std::int64_t instance = 0;
   std::string classifier;
+  // Keypoints of the segment lie this far apart [m] (the keyframe default, 0.15 m, gives a small object one or two
+  // features); in [0.005, 0.5].
+  double keypoint_spacing_m = 0.03;
+  // A segment with fewer points is refused (kUnprocessable): too few for descriptors; in [10, 1000000].
+  int min_points = 30;
 };
 
 struct InstanceClassificationResult {

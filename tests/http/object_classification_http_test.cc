@@ -184,6 +184,11 @@ TEST_F(ObjectClassificationHttpTest, SegmentIsClassifiedOperatorLabelWinsWhereIs
   refused(classify, R"({})", 400, "classifier");
   refused(classify, R"({"classifier":"objects","extra":1})", 400, "extra");
   refused(classify, R"({"classifier":"bad name!"})", 400, "classifier");
+  refused(classify, R"({"classifier":"objects","keypoint_spacing_m":0})", 400, "keypoint_spacing_m");
+  refused(classify, R"({"classifier":"objects","keypoint_spacing_m":"dense"})", 400, "keypoint_spacing_m");
+  refused(classify, R"({"classifier":"objects","min_points":5})", 400, "min_points");
+  refused(classify, R"({"classifier":"objects","min_points":1e12})", 400, "min_points");
+  refused(classify, R"({"classifier":"objects","min_points":1000000})", 422, "instance");  // more than the segment has
   // A classifier whose feature type the server cannot extract from a segment, one of a type without a codebook in the
   // map, and one whose descriptor length is not the codebook's word count.
   ASSERT_EQ(Train("client_type", Samples({{"a", {1, 0}}, {"b", {0, 1}}}, "x_look", 4, 4)).value("status", ""), "succeeded");
@@ -218,6 +223,10 @@ TEST_F(ObjectClassificationHttpTest, SegmentIsClassifiedOperatorLabelWinsWhereIs
   Raw("GET", "/v1/maps/home/where?label=box", "", 404);  // the only box was named a mug by the operator
   EXPECT_TRUE(listed("box").empty());
   EXPECT_EQ(listed("mug"), std::vector<std::int64_t>{box});
+  // Sparser keypoints give the same segment fewer features.
+  const json coarse = Call("POST", classify, json({{"classifier", "objects"}, {"keypoint_spacing_m", 0.06}}), 200);
+  EXPECT_LT(coarse["features"]["fpfh"]["count"].get<int>(), again["features"]["fpfh"]["count"].get<int>());
+  EXPECT_GT(coarse["features"]["fpfh"]["count"].get<int>(), 0);
   // Each classification is in the audit trail with the instance before and after: the first gave it the label box.
   bool gave_box = false;
   const json audit = Raw("GET", "/v1/audit?map=home&action=instance.classify&limit=1000", "", 200);
