@@ -5,6 +5,8 @@
 namespace anchordb::storage {
 
 ErrorCode ErrorCodeOfSqlite(int rc) {
+  // A CHECK or NOT NULL violation is a row our code built wrong, not a clash with other data: a bug (500).
+  if (rc == SQLITE_CONSTRAINT_CHECK || rc == SQLITE_CONSTRAINT_NOTNULL) return ErrorCode::kInternal;
   switch (rc & 0xff) {
     case SQLITE_CONSTRAINT: return ErrorCode::kConflict;
     case SQLITE_BUSY:

@@ -1,6 +1,6 @@
 #pragma once
 // Thin RAII wrappers over the SQLite C API. Every failure throws anchordb::Error with SQLite's message: kConflict for
-// constraint violations, kOverloaded when the busy timeout ran out, kInsufficientStorage when the disk is full,
+// constraint violations (unique, primary key, foreign key; a CHECK or NOT NULL violation is kInternal), kOverloaded when the busy timeout ran out, kInsufficientStorage when the disk is full,
 // kUnavailable for I/O errors and out of memory (the statement had no effect; retrying later may succeed), else
 // kInternal.
 #include <sqlite3.h>

@@ -166,6 +166,25 @@ TEST(StoreTest, FailedWriteRollsBackEverything) {
   EXPECT_FALSE(store.Read([](Connection& c) { return FindMap(c, "m").has_value(); }));
 }
 
+TEST(StoreTest, ConstraintViolationsAreConflictsExceptChecksWhichAreBugs) {
+  testing::TempDir dir;
+  Store store(OptionsFor(dir.File("db.sqlite")));
+  const auto code_of = [&](const std::string& sql) {
+    try {
+      store.Write([&](Connection& c) { Statement(c, sql).Run(); });
+    } catch (const Error& e) {
+      return e.code();
+    }
+    return ErrorCode::kUnavailable;  // nothing thrown
+  };
+  store.Write([](Connection& c) { InsertMap(c, {"m", "m", 1}); });
+  EXPECT_EQ(code_of("INSERT INTO maps (id, name, created_ns) VALUES ('m', 'again', 1)"), ErrorCode::kConflict);  // unique
+  EXPECT_EQ(code_of("INSERT INTO jobs (kind, status, created_ns, updated_ns) VALUES ('x', 'odd', 1, 1)"),
+            ErrorCode::kInternal);  // CHECK (status IN (...))
+  EXPECT_EQ(code_of("INSERT INTO jobs (kind, status, created_ns, updated_ns) VALUES (NULL, 'queued', 1, 1)"),
+            ErrorCode::kInternal);  // NOT NULL
+}
+
 TEST(StoreTest, RTreeBoundingBoxQuery) {
   testing::TempDir dir;
   Store store(OptionsFor(dir.File("db.sqlite")));
