@@ -74,11 +74,19 @@ void SetJobStatus(Connection& c, std::int64_t id, const std::string& status, con
   s.Bind(6, now_ns).Bind(7, id).Run();
 }
 
-int MarkUnfinishedJobsFailed(Connection& c, const std::string& message, std::int64_t now_ns) {
-  Statement s(c, "UPDATE jobs SET status = 'failed', error = ?1 || CASE WHEN stage <> '' THEN ' (stage ' || stage || ')' "
-                 "ELSE '' END, updated_ns = ?2 WHERE status IN ('queued', 'running')");
-  s.Bind(1, message).Bind(2, now_ns).Run();
-  return static_cast<int>(c.Changes());
+int MarkUnfinishedJobsFailed(Connection& c, const std::string& message, std::int64_t now_ns,
+                             const std::map<std::string, std::string>& notes_after_result) {
+  static const char* kSet = "UPDATE jobs SET status = 'failed', error = ?1 || CASE WHEN stage <> '' THEN ' (stage ' || "
+                            "stage || ')' ELSE '' END || ?3, updated_ns = ?2 WHERE status IN ('queued', 'running')";
+  int changed = 0;
+  for (const auto& [kind, note] : notes_after_result) {
+    Statement s(c, std::string(kSet) + " AND kind = ?4 AND result IS NOT NULL");
+    s.Bind(1, message).Bind(2, now_ns).Bind(3, note).Bind(4, kind).Run();
+    changed += static_cast<int>(c.Changes());
+  }
+  Statement s(c, kSet);
+  s.Bind(1, message).Bind(2, now_ns).Bind(3, std::string()).Run();
+  return changed + static_cast<int>(c.Changes());
 }
 
 }  // namespace anchordb::storage

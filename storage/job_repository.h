@@ -1,6 +1,7 @@
 #pragma once
 // SQL for jobs (migration 0004): long work with status, stage, progress, result and error.
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,7 +35,10 @@ std::optional<std::int64_t> NextQueuedJob(Connection& c, std::int64_t after_id =
 // result: kept as stored when null; error: replaced (null clears it).
 void SetJobStatus(Connection& c, std::int64_t id, const std::string& status, const std::string& stage, double progress,
                   const std::string* result_json, const std::string* error, std::int64_t now_ns);
-// Jobs left queued or running (by a stop or a crash) become failed with `message` and their stage; returns how many.
-int MarkUnfinishedJobsFailed(Connection& c, const std::string& message, std::int64_t now_ns);
+// Jobs left queued or running (by a stop or a crash) become failed with `message` and their stage; a job that had
+// recorded a result (its work was committed before the stop) also gets the note of its kind from
+// `notes_after_result` (by kind name). Returns how many.
+int MarkUnfinishedJobsFailed(Connection& c, const std::string& message, std::int64_t now_ns,
+                             const std::map<std::string, std::string>& notes_after_result = {});
 
 }  // namespace anchordb::storage

@@ -67,10 +67,14 @@ class JobService::Context final : public JobContext {
 
 JobService::JobService(storage::Store& store, JobSettings settings, const Clock& clock)
     : store_(store), settings_(std::move(settings)), clock_(clock) {
-  registry_.Register(ForgetJobKind(store_.path(), settings_));
-  registry_.Register(BackupJobKind(store_.path(), settings_));
-  interrupted_at_start_ = store_.Write(
-      [&](storage::Connection& c) { return storage::MarkUnfinishedJobsFailed(c, kInterrupted, clock_.NowNs()); });
+  std::map<std::string, std::string> notes_after_result;  // a job stopped after its work committed says so
+  for (JobKind kind : {ForgetJobKind(store_.path(), settings_), BackupJobKind(store_.path(), settings_)}) {
+    if (!kind.note_when_failed_after_result.empty()) notes_after_result[kind.name] = kind.note_when_failed_after_result;
+    registry_.Register(std::move(kind));
+  }
+  interrupted_at_start_ = store_.Write([&](storage::Connection& c) {
+    return storage::MarkUnfinishedJobsFailed(c, kInterrupted, clock_.NowNs(), notes_after_result);
+  });
   worker_ = std::thread([this] { Worker(); });
 }
 

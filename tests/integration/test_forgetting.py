@@ -296,6 +296,7 @@ class ForgetKill9Test(unittest.TestCase):
             self.assertIn("interrupted by a server stop", job["error"])
             if job["result"] is not None:  # killed in the vacuum after the commit: everything went
                 self.assertTrue(job["result"]["committed"], job)
+                self.assertIn("after the deletions were committed", job["error"])
                 self.assertEqual(left, set(), job)
             else:
                 self.assertEqual(left, self.old, "a part of the job's deletions happened: %s" % job)

@@ -104,9 +104,15 @@ TEST_F(forgetting_job, JobsFoundRunningOrQueuedAtStartAreMarkedInterrupted) {
     c.Exec("INSERT INTO jobs (kind, map_id, status, stage, progress, created_ns, updated_ns) VALUES "
            "('forget', 'home', 'running', 'keyframes', 0.5, 1, 1), ('forget', 'home', 'queued', '', 0, 2, 2), "
            "('forget', 'home', 'succeeded', 'done', 1, 3, 3)");
+    // Killed in the vacuum after its deletions committed (the result is recorded with them).
+    c.Exec("INSERT INTO jobs (kind, map_id, status, stage, progress, result, created_ns, updated_ns) VALUES "
+           "('forget', 'home', 'running', 'vacuum', 0.9, '{\"committed\":true}', 4, 4)");
   });
   JobService jobs(*store_, {}, clock_);
-  EXPECT_EQ(jobs.interrupted_at_start(), 2);
+  EXPECT_EQ(jobs.interrupted_at_start(), 3);
+  EXPECT_EQ(jobs.Get(4).status, JobStatus::kFailed);
+  EXPECT_EQ(jobs.Get(4).error, "interrupted by a server stop (stage vacuum) (after the deletions were committed: see result)");
+  EXPECT_EQ(jobs.Get(4).result_json, "{\"committed\":true}");
   const JobView running = jobs.Get(1), queued = jobs.Get(2), done = jobs.Get(3);
   EXPECT_EQ(running.status, JobStatus::kFailed);
   EXPECT_EQ(running.error, "interrupted by a server stop (stage keyframes)");
