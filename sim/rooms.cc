@@ -1,5 +1,6 @@
 #include "sim/rooms.h"
 
+#include <cmath>
 #include <random>
 
 namespace anchordb::sim {
@@ -25,11 +26,13 @@ class RoomBuilder {
   int NewObject(const std::string& name) {
     const int id = static_cast<int>(room_.scene.objects.size()) + 1;
     room_.scene.objects.push_back({id, name, "static"});
+    against_wall_.push_back(false);
     return id;
   }
   // Local (u, v) of a piece placed with its back to a wall: u along the wall, v away from it.
   struct Place {
     double x, y, yaw;
+    bool against_wall = false;  // its back (local -y) at a wall
     Eigen::Vector2d At(double u, double v) const {
       return {x + std::cos(yaw) * u - std::sin(yaw) * v, y + std::sin(yaw) * u + std::cos(yaw) * v};
     }
@@ -40,10 +43,10 @@ class RoomBuilder {
     const double w = room_.size_m.x(), h = room_.size_m.y();
     const double t = Uniform(0.25, 0.75);
     switch (wall) {
-      case 0: return {t * w, depth / 2, 0.0};                    // y = 0 wall, facing +y
-      case 1: return {w - depth / 2, t * h, M_PI / 2};           // x = w wall, facing -x
-      case 2: return {t * w, h - depth / 2, M_PI};               // y = h wall
-      default: return {depth / 2, t * h, -M_PI / 2};             // x = 0 wall
+      case 0: return {t * w, depth / 2, 0.0, true};              // y = 0 wall, facing +y
+      case 1: return {w - depth / 2, t * h, M_PI / 2, true};     // x = w wall, facing -x
+      case 2: return {t * w, h - depth / 2, M_PI, true};         // y = h wall
+      default: return {depth / 2, t * h, -M_PI / 2, true};       // x = 0 wall
     }
   }
   Place Middle() { return {Uniform(0.35, 0.65) * room_.size_m.x(), Uniform(0.35, 0.65) * room_.size_m.y(), Uniform(0, M_PI)}; }
@@ -51,7 +54,9 @@ class RoomBuilder {
   void Piece(int object, const Place& p, double u, double v, double z0, double sx, double sy, double sz) {
     const Eigen::Vector2d c = p.At(u, v);
     Box(object, c.x(), c.y(), z0, sx, sy, sz, p.yaw);
+    if (p.against_wall) against_wall_[static_cast<std::size_t>(object - 1)] = true;
   }
+  bool IsAgainstWall(int object) const { return against_wall_[static_cast<std::size_t>(object - 1)]; }
 
   void Table(const Place& p, double top_h, double sx, double sy) {
     const int id = NewObject("table");
@@ -83,7 +88,47 @@ class RoomBuilder {
  private:
   Room& room_;
   std::mt19937_64 rng_;
+  std::vector<bool> against_wall_;  // per object id - 1
 };
+
+// The pieces of the room (RoomPiece): each object's primitives boxed in the frame of its first primitive.
+std::vector<RoomPiece> RoomPieces(const Scene& scene, int structure, const RoomBuilder& b) {
+  std::vector<RoomPiece> pieces;
+  for (const Object& o : scene.objects) {
+    if (o.id == structure) continue;
+    RoomPiece piece;
+    piece.object_id = o.id;
+    piece.name = o.name;
+    piece.against_wall = b.IsAgainstWall(o.id);
+    bool first = true;
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
+    Eigen::Matrix3d R_PieceWorld = Eigen::Matrix3d::Identity();
+    for (const Primitive& p : scene.primitives) {
+      if (p.object_id != o.id) continue;
+      if (first) {
+        const Eigen::Matrix3d R = p.X_WorldPrim.linear();
+        piece.yaw_rad = std::atan2(R(1, 0), R(0, 0));
+        R_PieceWorld = Eigen::AngleAxisd(-piece.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        first = false;
+      }
+      for (int corner = 0; corner < 8; ++corner) {
+        const Eigen::Vector3d c((corner & 1 ? 0.5 : -0.5) * p.size_m.x(), (corner & 2 ? 0.5 : -0.5) * p.size_m.y(),
+                                (corner & 4 ? 0.5 : -0.5) * p.size_m.z());
+        const Eigen::Vector3d in_piece = R_PieceWorld * (p.X_WorldPrim * c);
+        lo = lo.cwiseMin(in_piece);
+        hi = hi.cwiseMax(in_piece);
+      }
+    }
+    if (first) continue;
+    const Eigen::Vector3d mid = R_PieceWorld.transpose() * (0.5 * (lo + hi));
+    piece.centre_m = mid.head<2>();
+    piece.extent_m = (hi - lo).head<2>();
+    piece.z0_m = lo.z();
+    piece.height_m = hi.z() - lo.z();
+    pieces.push_back(piece);
+  }
+  return pieces;
+}
 
 void Furnish(RoomBuilder& b, int category, const Eigen::Vector2d& size) {
   switch (category) {
@@ -199,6 +244,7 @@ Room MakeRoom(int category, std::uint64_t seed) {
   b.Box(structure, -0.05, h / 2, 0, 0.1, h, wall_h, 0);
   b.Box(structure, w + 0.05, h / 2, 0, 0.1, h, wall_h, 0);
   Furnish(b, category, room.size_m);
+  room.pieces = RoomPieces(room.scene, structure, b);
   // A robot in the middle scans the room: 6 keyframes, 60 deg apart, camera 1.2 m up looking 25 deg down.
   const Eigen::Vector3d eye(w / 2 + b.Uniform(-0.2, 0.2), h / 2 + b.Uniform(-0.2, 0.2), 1.2);
   for (int k = 0; k < 6; ++k) {

@@ -18,9 +18,23 @@ inline constexpr int kRoomCategoryCount = 6;
 // "bedroom", "dining_room", "living_room", "bathroom", "office", "kitchen"
 const char* RoomCategoryName(int category);
 
+// A piece of furniture or a fixture as MakeRoom placed it (the floor and walls are none): the bounding box of its
+// primitives in its own frame, x along the wall it stands against (or its length), y away from that wall (towards its
+// front), z up. The mesh-furnished rooms (tests/eval/mesh_rooms.h) replace pieces by meshes at these boxes.
+struct RoomPiece {
+  int object_id = 0;
+  std::string name;                                    // "bed", "chair", "cabinet", "kitchen counter", ...
+  Eigen::Vector2d centre_m = Eigen::Vector2d::Zero();  // footprint centre in the world frame
+  double yaw_rad = 0.0;                                // of its own x axis
+  Eigen::Vector2d extent_m = Eigen::Vector2d::Zero();  // along its own x and y
+  double z0_m = 0.0, height_m = 0.0;                   // bottom above the floor, height
+  bool against_wall = false;                           // placed with its back (own -y side) to a wall
+};
+
 struct Room {
   int category = 0;
   Scene scene;
+  std::vector<RoomPiece> pieces;  // every object but the room's structure, in scene.objects order
   Eigen::Vector2d size_m = Eigen::Vector2d::Zero();
   std::vector<Eigen::Isometry3d> X_WorldCamera;  // optical-frame poses of the scanning keyframes
 };

@@ -2,12 +2,16 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <optional>
 #include <random>
+#include <stdexcept>
 
 #include "engine/features/extraction.h"
 #include "engine/features/features.h"
 #include "engine/scene/projection.h"
 #include "sim/rooms.h"
+#include "tests/eval/mesh_rooms.h"
 
 namespace anchordb::eval {
 namespace {
@@ -52,14 +56,27 @@ RoomsData MakeRoomsData(const RoomsEvalOptions& o) {
   params.feature_radius_m = 0.15;
   params.keypoint_voxel_m = 0.2;
   params.min_plane_points = 60;
+  std::optional<FurnitureMeshes> library;
+  if (!o.furniture_dir.empty() && o.rooms_per_category > 0) {
+    library = ReadFurnitureMeshes(o.furniture_dir);
+    if (!library) throw std::runtime_error("the furniture meshes are missing in " + o.furniture_dir);
+  }
   for (int c = 0; c < sim::kRoomCategoryCount; ++c) {
     for (int i = 0; i < o.rooms_per_category; ++i) {
-      const sim::Room room = sim::MakeRoom(c, o.seed + static_cast<std::uint64_t>(i));
+      const std::uint64_t seed = o.seed + static_cast<std::uint64_t>(i);
+      const MeshRoom mesh_room = library ? MakeMeshRoom(c, seed, *library) : MeshRoom{sim::MakeRoom(c, seed), {}, {}, {}};
+      const sim::Room& room = mesh_room.room;
       auto t = std::chrono::steady_clock::now();
       std::vector<Eigen::Vector3f> cloud_m;
       for (std::size_t k = 0; k < room.X_WorldCamera.size(); ++k) {
-        const sim::Frame f = sim::Render(room.scene, K, room.X_WorldCamera[k], sim::SensorModel{}, o.seed * 1000 + k);
-        const auto points = engine::BackProjectRaw(f.depth_mm, 1000.0, K, room.X_WorldCamera[k]);
+        std::vector<std::uint16_t> depth_mm;
+        if (library) {  // a noise seed per room and keyframe
+          depth_mm = ScanWithMeshes(room.scene, mesh_room.meshes, K, room.X_WorldCamera[k], sim::SensorModel{},
+                                    (o.seed * 1000 + k) * 7919 + seed * 16 + static_cast<std::uint64_t>(c));
+        } else {
+          depth_mm = sim::Render(room.scene, K, room.X_WorldCamera[k], sim::SensorModel{}, o.seed * 1000 + k).depth_mm;
+        }
+        const auto points = engine::BackProjectRaw(depth_mm, 1000.0, K, room.X_WorldCamera[k]);
         cloud_m.insert(cloud_m.end(), points.begin(), points.end());
         ++out.keyframes;
       }
@@ -172,6 +189,40 @@ engine::CrossValidationReport CrossValidateRooms(const std::vector<engine::Train
         return type < 0 ? bags : OneType(bags, static_cast<std::size_t>(type));
       },
       options, fold_of_room);
+}
+
+RoomsRun RunRooms(const RoomsEvalOptions& o) {
+  RoomsRun run;
+  run.data = MakeRoomsData(o);
+  run.folds = engine::StratifiedFolds(run.data.labels, o.folds, o.seed);
+  run.bags = FoldBags(run.data, run.folds, o.seed);  // codebooks from each fold's training rooms only
+  run.all = CrossValidateRooms(run.bags, o.esamme, run.folds);
+  return run;
+}
+
+void PrintRoomsRun(const char* name, const engine::CrossValidationReport& r, bool details) {
+  const auto& e = r.test_error_per_round;
+  double best = 1.0;
+  for (double v : e) best = std::min(best, v);
+  const std::size_t at20 = std::min<std::size_t>(19, e.size() - 1);
+  std::printf("%-10s test error after 1 / 5 / 10 / 20 / last round: %.3f %.3f %.3f %.3f %.3f (worst fold at 20: %.3f), "
+              "minimum %.3f, final-model error %.3f, train error at 20 %.3f\n",
+              name, e[0], e[std::min<std::size_t>(4, e.size() - 1)], e[std::min<std::size_t>(9, e.size() - 1)], e[at20],
+              e.back(), r.test_error_worst_fold_per_round[at20], best, r.test_error, r.train_error_per_round[at20]);
+  if (!details) return;
+  std::printf("\ntest error per round (mean over folds):");
+  for (std::size_t i = 0; i < e.size(); ++i) std::printf("%s%.3f", i % 10 ? " " : "\n  ", e[i]);
+  std::printf("\n\nconfusion (rows true, columns predicted):\n%14s", "");
+  for (int c = 0; c < sim::kRoomCategoryCount; ++c) std::printf("%12.11s", sim::RoomCategoryName(c));
+  for (int c = 0; c < sim::kRoomCategoryCount; ++c) {
+    std::printf("\n%14s", sim::RoomCategoryName(c));
+    for (int v : r.confusion[static_cast<std::size_t>(c)]) std::printf("%12d", v);
+  }
+  std::printf("\n\nshare of feature types among the chosen rounds:");
+  for (const auto& [k, v] : r.feature_share) std::printf("  %s %.3f", k.c_str(), v);
+  std::printf("\nshare of classifier kinds:");
+  for (const auto& [k, v] : r.kind_share) std::printf("  %s %.3f", k.c_str(), v);
+  std::printf("\n\n");
 }
 
 }  // namespace anchordb::eval

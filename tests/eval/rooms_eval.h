@@ -1,5 +1,6 @@
 #pragma once
-// Room categorisation in the manner of thesis 4.3.3 on synthetic rooms (sim/rooms.h): each room scanned from its
+// Room categorisation in the manner of thesis 4.3.3 on synthetic rooms (sim/rooms.h, box-built or furnished from the
+// furniture meshes, tests/eval/mesh_rooms.h): each room scanned from its
 // keyframes, the clouds merged in the map frame, FPFH / SHOT / SPD extracted (engine/features/extraction.h),
 // codebooks by k-means, one bag of words per room and type, E-SAMME cross-validated over the rooms. The codebooks of
 // a fold are built from that fold's training rooms only (the test rooms' descriptors never shape the words).
@@ -17,6 +18,9 @@ struct RoomsEvalOptions {
   int words_fpfh = 40, words_shot = 40, words_spd = 12;
   int folds = 5;
   engine::EsammeOptions esamme;  // base empty: RoomsBaseSet()
+  // Empty: the box-built rooms (sim/rooms.h). Else the rooms furnished from the furniture meshes of this folder
+  // (…/aws_small_house/furniture_converted; tests/eval/mesh_rooms.h), scanned with the sim's sensor model.
+  std::string furniture_dir;
 };
 
 // MLPs, DTrees and an RBF SVM grid (the thesis used SVMs, DTrees and MLPs).
@@ -36,7 +40,8 @@ struct RoomsData {
   double mean_features_per_room[3] = {0, 0, 0};
 };
 
-// Renders every room and extracts its features.
+// Renders every room and extracts its features. Throws std::runtime_error when options.furniture_dir is set and a
+// mesh is missing there.
 RoomsData MakeRoomsData(const RoomsEvalOptions& options);
 
 // The bags of words of every room (feature types as in `data`), over one codebook per type built by seeded k-means
@@ -53,5 +58,20 @@ engine::TrainingSet OneType(const engine::TrainingSet& bags, std::size_t type);
 engine::CrossValidationReport CrossValidateRooms(const std::vector<engine::TrainingSet>& fold_bags,
                                                  const engine::EsammeOptions& options,
                                                  const std::vector<int>& fold_of_room, int type = -1);
+
+// The tests' run: MakeRoomsData(options), options.folds stratified folds (seed options.seed), per-fold bags of words
+// and the cross-validation of all feature types together.
+struct RoomsRun {
+  RoomsData data;
+  std::vector<int> folds;
+  std::vector<engine::TrainingSet> bags;
+  engine::CrossValidationReport all;
+};
+RoomsRun RunRooms(const RoomsEvalOptions& options);
+
+// Prints a cross-validation's test error after 1 / 5 / 10 / 20 / the last round (and the worst fold's, the minimum,
+// the final models', the train error at 20) on one line headed `name`; with `details` also the error of every round,
+// the confusion matrix (the six room categories) and the shares of feature types and classifier kinds.
+void PrintRoomsRun(const char* name, const engine::CrossValidationReport& r, bool details);
 
 }  // namespace anchordb::eval

@@ -1,16 +1,20 @@
 // Prints the room categorisation evaluation (thesis 4.3.3) on synthetic rooms beside the thesis' figures.
 //   anchordb_eval_rooms [--rooms_per_category 10] [--rounds 30] [--seed 1] [--update thesis|sklearn]
 //                       [--selection maximum|roulette|weights] [--sample_factor 0.6] [--cache FILE]
+//                       [--variant box|mesh] [--furniture DIR]
+// --variant mesh: the rooms furnished from the furniture meshes (tests/eval/mesh_rooms.h) of DIR (default
+// $ANCHORDB_SHARED_DATA/aws_small_house/furniture_converted, else ../shared/data/...); box: the box-built rooms.
 // --cache keeps every room's descriptors in FILE (written on the first run, read on later ones: codebooks and
 // boosting rerun).
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
+#include <exception>
 #include <fstream>
 #include <sstream>
 #include <string>
 
-#include "sim/rooms.h"
 #include "tests/eval/rooms_eval.h"
 
 using namespace anchordb;
@@ -61,36 +65,12 @@ bool LoadRooms(const std::string& path, eval::RoomsData& d) {
   return static_cast<bool>(in);
 }
 
-void PrintRun(const char* name, const engine::CrossValidationReport& r, bool details) {
-  const auto& e = r.test_error_per_round;
-  double best = 1.0;
-  for (double v : e) best = std::min(best, v);
-  const std::size_t at20 = std::min<std::size_t>(19, e.size() - 1);
-  std::printf("%-10s test error after 1 / 5 / 10 / 20 / last round: %.3f %.3f %.3f %.3f %.3f (worst fold at 20: %.3f), "
-              "minimum %.3f, final-model error %.3f, train error at 20 %.3f\n",
-              name, e[0], e[std::min<std::size_t>(4, e.size() - 1)], e[std::min<std::size_t>(9, e.size() - 1)], e[at20],
-              e.back(), r.test_error_worst_fold_per_round[at20], best, r.test_error, r.train_error_per_round[at20]);
-  if (!details) return;
-  std::printf("\ntest error per round (mean over folds):");
-  for (std::size_t i = 0; i < e.size(); ++i) std::printf("%s%.3f", i % 10 ? " " : "\n  ", e[i]);
-  std::printf("\n\nconfusion (rows true, columns predicted):\n%14s", "");
-  for (int c = 0; c < sim::kRoomCategoryCount; ++c) std::printf("%12.11s", sim::RoomCategoryName(c));
-  for (int c = 0; c < sim::kRoomCategoryCount; ++c) {
-    std::printf("\n%14s", sim::RoomCategoryName(c));
-    for (int v : r.confusion[static_cast<std::size_t>(c)]) std::printf("%12d", v);
-  }
-  std::printf("\n\nshare of feature types among the chosen rounds:");
-  for (const auto& [k, v] : r.feature_share) std::printf("  %s %.3f", k.c_str(), v);
-  std::printf("\nshare of classifier kinds:");
-  for (const auto& [k, v] : r.kind_share) std::printf("  %s %.3f", k.c_str(), v);
-  std::printf("\n\n");
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
   eval::RoomsEvalOptions o;
   std::string cache;
+  bool mesh = false;
   o.esamme.rounds = 30;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string key = argv[i], value = argv[i + 1];
@@ -101,6 +81,8 @@ int main(int argc, char** argv) {
     else if (key == "--selection") o.esamme.selection = engine::ParseSelection(value);
     else if (key == "--sample_factor") o.esamme.sample_factor = std::stod(value);
     else if (key == "--cache") cache = value;
+    else if (key == "--variant" && (value == "box" || value == "mesh")) mesh = value == "mesh";
+    else if (key == "--furniture") o.furniture_dir = value, mesh = true;
     else {
       std::fprintf(stderr, "unknown option %s\n", key.c_str());
       return 2;
@@ -108,6 +90,10 @@ int main(int argc, char** argv) {
   }
   o.esamme.base = eval::RoomsBaseSet();
   o.esamme.seed = o.seed;
+  if (mesh && o.furniture_dir.empty()) {
+    const char* data = std::getenv("ANCHORDB_SHARED_DATA");
+    o.furniture_dir = std::string(data ? data : "../shared/data") + "/aws_small_house/furniture_converted";
+  }
   eval::RoomsData data;
   bool cached = false;
   if (!cache.empty()) {
@@ -119,16 +105,22 @@ int main(int argc, char** argv) {
     cached = LoadRooms(cache, data);
   }
   if (!cached) {
-    data = eval::MakeRoomsData(o);
+    try {
+      data = eval::MakeRoomsData(o);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "%s\n", e.what());
+      return 1;
+    }
     if (!cache.empty()) SaveRooms(cache, data);
   } else {
     std::printf("(descriptors read from %s)\n", cache.c_str());
   }
   const int rooms = static_cast<int>(data.labels.size());
-  std::printf("Room categorisation (thesis 4.3.3) on %d synthetic rooms (%d per category, seed %llu), %d keyframes "
+  std::printf("Room categorisation (thesis 4.3.3) on %d synthetic %s rooms (%d per category, seed %llu), %d keyframes "
               "(320x240, Kinect-like sensor), %.0f points per room;\nfeatures per room: fpfh %.0f, shot %.0f, spd %.1f; "
               "render %.1f s, extraction %.1f s in all (%.3f s per keyframe's share)\n",
-              rooms, o.rooms_per_category, static_cast<unsigned long long>(o.seed), data.keyframes, data.mean_points_per_room,
+              rooms, o.furniture_dir.empty() ? "box-built" : "mesh-furnished", o.rooms_per_category,
+              static_cast<unsigned long long>(o.seed), data.keyframes, data.mean_points_per_room,
               data.mean_features_per_room[0], data.mean_features_per_room[1], data.mean_features_per_room[2],
               data.render_seconds, data.extract_seconds, data.extract_seconds / data.keyframes);
   std::printf("E-SAMME: %zu base settings (dtree x3, svm x9, mlp x2), %d rounds, selection %s, z_f %.2f, update %s, "
@@ -142,10 +134,10 @@ int main(int argc, char** argv) {
   std::printf("(codebooks and bags of words of %d folds: %.1f s)\n", o.folds,
               std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count());
   t = std::chrono::steady_clock::now();
-  PrintRun("all three", eval::CrossValidateRooms(bags, o.esamme, folds), true);
+  eval::PrintRoomsRun("all three", eval::CrossValidateRooms(bags, o.esamme, folds), true);
   std::printf("(cross-validation of all three types: %.1f s)\n", std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count());
   for (std::size_t ty = 0; ty < data.feature_types.size(); ++ty) {
-    PrintRun(data.feature_types[ty].c_str(), eval::CrossValidateRooms(bags, o.esamme, folds, static_cast<int>(ty)), false);
+    eval::PrintRoomsRun(data.feature_types[ty].c_str(), eval::CrossValidateRooms(bags, o.esamme, folds, static_cast<int>(ty)), false);
   }
   return 0;
 }

@@ -3,8 +3,11 @@
 // and FPFH alone better than SHOT alone, as in the thesis. The codebooks are built per fold from its training rooms.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 
+#include "sim/rooms.h"
 #include "tests/eval/rooms_eval.h"
 
 namespace anchordb::eval {
@@ -14,12 +17,10 @@ TEST(RoomsEvalTest, SixtyRoomsCrossValidatedBeatTheThesis) {
   RoomsEvalOptions o;
   o.esamme.rounds = 20;
   o.esamme.base = RoomsBaseSet();
-  const RoomsData data = MakeRoomsData(o);
-  ASSERT_EQ(data.labels.size(), 60u);
-  const auto folds = engine::StratifiedFolds(data.labels, 5, o.seed);
-  const auto bags = FoldBags(data, folds, o.seed);  // codebooks from each fold's training rooms only
-  ASSERT_EQ(bags.size(), 5u);
-  const auto all = CrossValidateRooms(bags, o.esamme, folds);
+  const RoomsRun run = RunRooms(o);  // codebooks from each fold's training rooms only
+  ASSERT_EQ(run.data.labels.size(), 60u);
+  ASSERT_EQ(run.bags.size(), 5u);
+  const auto& [data, folds, bags, all] = run;
   std::printf("test error after 20 rounds, fpfh + shot + spd, per-fold codebooks: %.3f\n", all.test_error_per_round[19]);
   EXPECT_LE(all.test_error_per_round[19], 0.25);
   double kinds = 0, types = 0;
@@ -31,6 +32,30 @@ TEST(RoomsEvalTest, SixtyRoomsCrossValidatedBeatTheThesis) {
   const double shot = CrossValidateRooms(bags, o.esamme, folds, 1).test_error_per_round[19];
   std::printf("fpfh alone %.3f, shot alone %.3f\n", fpfh, shot);
   EXPECT_LT(fpfh, shot);
+}
+
+// The pieces MakeRoom reports box their primitives, and a piece against a wall has its back (own -y side) at one
+// (within 0.2 m: the tv and the monitor stand on the middle of the board and the desk in front of it).
+TEST(RoomsEvalTest, RoomPiecesBoxTheirPrimitivesAndStandAtTheirWalls) {
+  for (int c = 0; c < sim::kRoomCategoryCount; ++c) {
+    for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+      const sim::Room room = sim::MakeRoom(c, seed);
+      ASSERT_EQ(room.pieces.size() + 1, room.scene.objects.size()) << "every object but the room's structure";
+      for (const sim::RoomPiece& p : room.pieces) {
+        const Eigen::Rotation2Dd R(p.yaw_rad);
+        for (const sim::Primitive& prim : room.scene.primitives) {
+          if (prim.object_id != p.object_id) continue;
+          const Eigen::Vector2d local = R.inverse() * (prim.X_WorldPrim.translation().head<2>() - p.centre_m);
+          EXPECT_LE(std::abs(local.x()), p.extent_m.x() / 2 + 1e-9) << p.name;
+          EXPECT_LE(std::abs(local.y()), p.extent_m.y() / 2 + 1e-9) << p.name;
+        }
+        if (!p.against_wall) continue;
+        const Eigen::Vector2d back = p.centre_m + R * Eigen::Vector2d(0, -p.extent_m.y() / 2);
+        const double to_wall = std::min({back.x(), back.y(), room.size_m.x() - back.x(), room.size_m.y() - back.y()});
+        EXPECT_LT(to_wall, 0.2) << sim::RoomCategoryName(c) << " seed " << seed << ": " << p.name;
+      }
+    }
+  }
 }
 
 // A fold's codebook never sees the test rooms: the bags of fold 0 do not change when the descriptors of its test

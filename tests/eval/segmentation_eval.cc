@@ -20,6 +20,7 @@
 #include "sim/apartment_furnished.h"
 #include "sim/lost_key_scenario.h"
 #include "sim/renderer.h"
+#include "tests/eval/mesh_furniture.h"
 #include "tests/support/server_process.h"
 #include "tests/support/temp_dir.h"
 
@@ -114,47 +115,36 @@ std::optional<SegmentationScore> EvaluateMeshRooms(int rooms, std::uint64_t seed
                                       {"cupboard/Wardrobe_01.obj", "wardrobe"}, {"cupboard/TVCabinet_01.obj", "cupboard"}};
   std::vector<engine::TriangleMesh> meshes;
   for (const Choice& c : choice) {
-    std::ifstream in(dir + "/" + c.file);
-    if (!in) return std::nullopt;
-    std::stringstream text;
-    text << in.rdbuf();
-    meshes.push_back(engine::ParseObj(text.str()));
+    auto mesh = ReadObjFile(dir + "/" + c.file);
+    if (!mesh) return std::nullopt;
+    meshes.push_back(std::move(*mesh));
   }
   SegmentationScore s;
   const PinholeIntrinsics K = sim::KinectIntrinsics();
-  engine::ScanCamera cam;
-  cam.width = K.width, cam.height = K.height, cam.fx = K.fx, cam.fy = K.fy, cam.cx = K.cx, cam.cy = K.cy;
+  const engine::ScanCamera cam = ScanCameraOf(K);
   for (int k = 0; k < rooms; ++k) {
     const std::uint64_t seed = seed0 + static_cast<std::uint64_t>(k);
     sim::FurnishedRoom room = sim::MakeFurnishedRoom(seed);
     for (const sim::PlacedPiece& p : room.pieces) sim::RemoveObject(room.scene, p.object_id);
     // Each mesh: its bounding box's footprint centred on the piece's place, its longer side along the piece's.
     std::vector<sim::PlacedPiece> pieces;
-    std::vector<Eigen::Isometry3d> X_WorldMesh;
+    std::vector<PlacedMesh> placed;
     for (std::size_t i = 0; i < meshes.size(); ++i) {
-      Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9f), hi = -lo;
-      for (const auto& v : meshes[i].vertices_m) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+      const MeshBounds b = Bounds(meshes[i]);
       const sim::PlacedPiece& place = room.pieces[i];
-      const Eigen::Vector3f size = hi - lo;
+      const Eigen::Vector3f size = b.hi - b.lo;
       const bool turn = size.y() > size.x();  // the mesh's longer side to the piece's own x
-      const double yaw = place.yaw_rad + (turn ? -std::numbers::pi / 2 : 0.0);
-      // Keep a piece against its wall: move it so that its depth ends where the box piece's did.
-      const Eigen::Vector2d own_y = Eigen::Rotation2Dd(place.yaw_rad) * Eigen::Vector2d(0, 1);
-      const double depth = turn ? size.x() : size.y();
-      // Which way the piece's wall lies along its own y: sofa and shelf +y, wardrobe and cupboard -y, table and chair
-      // stand free (sim/apartment_furnished.cc).
+      // Keep a piece against its wall: move it so that its depth ends where the box piece's did. Which way the
+      // piece's wall lies along its own y: sofa and shelf +y, wardrobe and cupboard -y, table and chair stand free
+      // (sim/apartment_furnished.cc).
       constexpr double kWallSide[] = {1.0, 0.0, 0.0, 1.0, -1.0, -1.0};
-      const Eigen::Vector2d centre = place.centre_m + own_y * 0.5 * (place.extent_m.y() - depth) * kWallSide[i];
-      Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-      X.translation() = Eigen::Vector3d(centre.x(), centre.y(), -lo.z());
-      X.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-      X = X * Eigen::Translation3d(-0.5 * (lo + hi).x(), -0.5 * (lo + hi).y(), 0.0);
-      X_WorldMesh.push_back(X);
+      const MeshFit fit = FitMesh(b, turn ? -1 : 0, place.centre_m, place.yaw_rad, place.extent_m.y(), kWallSide[i]);
+      placed.push_back({&meshes[i], fit.X_WorldMesh});
       sim::PlacedPiece p = place;
       p.category = choice[i].category;
-      p.centre_m = centre;
-      p.extent_m = Eigen::Vector2d(std::max(size.x(), size.y()), std::min(size.x(), size.y()));
-      p.height_m = size.z();
+      p.centre_m = fit.centre_m;
+      p.extent_m = fit.extent_m;
+      p.height_m = fit.height_m;
       pieces.push_back(p);
     }
     std::vector<Eigen::Vector3f> cloud;
@@ -163,21 +153,12 @@ std::optional<SegmentationScore> EvaluateMeshRooms(int rooms, std::uint64_t seed
     for (std::size_t v = 0; v < room.X_WorldCamera.size(); ++v) {
       const sim::Frame f = sim::Render(room.scene, K, room.X_WorldCamera[v], sim::SensorModel{}, seed * 31 + v);
       std::vector<std::uint16_t> depth = f.depth_mm;
-      std::vector<double> nearest(depth.size(), 1e9);  // z-buffer: the room's true depth, then each mesh's
-      for (std::size_t px = 0; px < depth.size(); ++px) {
-        if (f.true_depth_m[px] > 0) nearest[px] = f.true_depth_m[px];
-      }
-      for (std::size_t m = 0; m < meshes.size(); ++m) {
-        const std::vector<double> d = engine::RenderMeshDepth(meshes[m], X_WorldMesh[m], cam, room.X_WorldCamera[v]);
-        for (std::size_t px = 0; px < d.size(); ++px) {
-          if (!(d[px] > 0.5)) continue;
-          if (d[px] >= nearest[px]) continue;
-          nearest[px] = d[px];
-          // Axial noise of the sim's sensor (Nguyen et al. 2012), white.
-          const double z = d[px] + normal(rng) * (0.0012 + 0.0019 * (d[px] - 0.4) * (d[px] - 0.4));
-          depth[px] = static_cast<std::uint16_t>(std::lround(z * 1000.0));
-        }
-      }
+      std::vector<double> nearest(f.true_depth_m.begin(), f.true_depth_m.end());  // z-buffer: the room's true depth
+      ZBufferMeshes(placed, cam, room.X_WorldCamera[v], 0.5, nearest, [&](std::size_t px, double d) {
+        // Axial noise of the sim's sensor (Nguyen et al. 2012), white.
+        const double z = d + normal(rng) * (0.0012 + 0.0019 * (d - 0.4) * (d - 0.4));
+        depth[px] = static_cast<std::uint16_t>(std::lround(z * 1000.0));
+      });
       for (auto& dd : depth) {
         if (dd > 3500) dd = 0;
       }
