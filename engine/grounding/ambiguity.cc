@@ -57,9 +57,15 @@ void SettleHeld(const FurnitureGraph& graph, HypothesisSet& set, std::size_t hel
     if (static_cast<std::size_t>(held.step) >= h.matches.size()) continue;
     // The joint model counts a repeated reading once: its first occurrence carries the update (joint_model.h).
     if (params.model == Model::kJoint && RepeatsEarlier(h.matches, static_cast<std::size_t>(held.step))) continue;
-    // Confirmation by any other description of the sequence counts, earlier or later than the held one.
-    std::vector<Match> others = h.matches;
-    others.erase(others.begin() + held.step);
+    // Confirmation by any other description of the sequence counts, earlier or later than the held one; under the
+    // joint model not the held description's own later repeats (the same reading told again confirms nothing).
+    const Match& settled = h.matches[static_cast<std::size_t>(held.step)];
+    std::vector<Match> others;
+    for (std::size_t i = 0; i < h.matches.size(); ++i) {
+      if (i == static_cast<std::size_t>(held.step)) continue;
+      if (params.model == Model::kJoint && SameReading(h.matches[i], settled)) continue;
+      others.push_back(h.matches[i]);
+    }
     ApplyCategoryUpdate(graph, h.state, held.description, h.matches[static_cast<std::size_t>(held.step)], params, others);
   }
   set.held.erase(set.held.begin() + static_cast<std::ptrdiff_t>(held_index));

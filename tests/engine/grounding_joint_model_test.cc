@@ -154,6 +154,41 @@ TEST(GroundingJointModelTest, AHeldDescriptionSaidTwiceAppliesItsUpdateOnceWhenR
   EXPECT_NEAR(P(g, set.ranked.front().state, "table_front", "table"), 0.7 * 0.95 / (0.7 * 0.95 + 0.3 * 0.05 / 9), 1e-9);
 }
 
+TEST(GroundingJointModelTest, AHeldPoorMatchIsNotConfirmedByItsOwnRepeat) {
+  // "The armchair left of the chair" is ambiguous between two tables; the left one may be an armchair (0.3), the one
+  // in front barely (0.02, below the category floor of 0.05): in the hypotheses that read it as the front table it
+  // is a poor match. Told twice, it is still one reading: settling it must not take its own repeat for a second
+  // description naming that piece, so the front table's p(armchair) stays where it was in those hypotheses.
+  const FurnitureGraph g = BuildFurnitureGraph(
+      {{0, 0}, 0},
+      {{"chair", {3.0, 0.0}, {0.5, 0.5}, 0, Pf({{"chair", 0.7}, {"armchair", 0.2}, {"stool", 0.1}})},
+       {"table_left", {3.0, 1.3}, {0.8, 0.8}, 0, Pf({{"table", 0.5}, {"armchair", 0.3}, {"stool", 0.2}})},
+       {"table_front", {1.9, 0.0}, {0.6, 0.6}, 0, Pf({{"table", 0.68}, {"stool", 0.2}, {"chair", 0.1}, {"armchair", 0.02}})},
+       {"plant", {4.1, 0.0}, {0.4, 0.4}, 0, Pf({{"plant", 0.9}, {"stool", 0.1}})}},
+      DefaultKnowledge().categories.size(), {});
+  const Knowledge& k = DefaultKnowledge();
+  GroundingParams params = Joint();
+  params.ambiguity_margin = 4.0;  // nats
+  const Description d{Cat("armchair"), Relation::kLeftOf, Cat("chair")};
+  HypothesisSet set = Ground(g, k, InitialHypotheses(g), d, params);
+  set = Ground(g, k, set, d, params);
+  ASSERT_FALSE(set.held.empty());
+  const int front = g.VertexIndex("table_front");
+  int front_readings = 0;
+  for (const Hypothesis& h : set.ranked) {
+    if (g.Located(h.matches[0].directed_edge) != front) continue;
+    EXPECT_TRUE(IsPoorMatch(g, h.state, d, h.matches[0], params.category_floor));
+    ++front_readings;
+  }
+  ASSERT_GT(front_readings, 0) << "no hypothesis reads the description as the front table";
+  while (!set.held.empty()) SettleHeld(g, set, 0, params);
+  for (const Hypothesis& h : set.ranked) {
+    if (g.Located(h.matches[0].directed_edge) == front) {
+      EXPECT_DOUBLE_EQ(P(g, h.state, "table_front", "armchair"), 0.02);
+    }
+  }
+}
+
 TEST(GroundingJointModelTest, AFrameTheSpeakerHasShownWinsTheDuplicate) {
   // Descriptions of the plant and of the tables in the relative frame first; then "the table is left of the chair":
   // the relative speaker means the table on the viewer's left, not the one an intrinsic reading would make fit.
