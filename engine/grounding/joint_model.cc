@@ -136,11 +136,15 @@ void JointScores(const FurnitureGraph& graph, const Knowledge& knowledge, const 
       x[o + 1].score = base + log_intrinsic[b][JointIdx(o)] + SafeLog(fit);
     }
   }
-  // A repeat of an earlier description read as the same pieces the same way counts once: it adds nothing.
+  // A repeat of an earlier description read as the same pieces the same way counts once: it adds repeat_weight of
+  // its score (0 by default), once however often it was told before.
+  std::vector<std::size_t> repeated;
   for (const Match& m : parent.matches) {
     if (m.located_category != d.located || m.reference_category != d.reference || m.directed_edge < 0) continue;
-    InterpretationScore& x = out[JointIdx(m.directed_edge * kInterpretationCount + m.interpretation)];
-    if (x.relative == m.relative) x.score *= jp.repeat_weight;
+    const std::size_t i = JointIdx(m.directed_edge * kInterpretationCount + m.interpretation);
+    if (out[i].relative != m.relative || std::find(repeated.begin(), repeated.end(), i) != repeated.end()) continue;
+    out[i].score *= jp.repeat_weight;
+    repeated.push_back(i);
   }
 }
 

@@ -139,6 +139,23 @@ TEST(GroundingJointModelTest, ARepeatedDescriptionCountsOnce) {
   EXPECT_LT(set.ranked.front().matches.back().score, 0.0);
 }
 
+TEST(GroundingJointModelTest, ARepeatWeightAppliesOnceHoweverOftenTheDescriptionWasTold) {
+  const FurnitureGraph g = TwoTables();
+  const Knowledge& k = DefaultKnowledge();
+  GroundingParams params = Joint();
+  params.joint.repeat_weight = 0.5;
+  const Description d{Cat("plant"), Relation::kBehind, Cat("chair")};
+  HypothesisSet set = Ground(g, k, InitialHypotheses(g), d, params);
+  for (int i = 0; i < 2; ++i) set = Ground(g, k, set, d, params);
+  const Hypothesis& best = set.ranked.front();
+  ASSERT_EQ(best.matches.size(), 3u);
+  ASSERT_TRUE(RepeatsEarlier(best.matches, 1) && RepeatsEarlier(best.matches, 2));
+  // A repeat updates nothing, so the second and third tellings score the same reading from the same state: half of
+  // it each (not a quarter for the third).
+  EXPECT_LT(best.matches[1].score, 0.0);
+  EXPECT_DOUBLE_EQ(best.matches[2].score, best.matches[1].score);
+}
+
 TEST(GroundingJointModelTest, AHeldDescriptionSaidTwiceAppliesItsUpdateOnceWhenResolved) {
   const FurnitureGraph g = TwoTables();
   const Knowledge& k = DefaultKnowledge();
