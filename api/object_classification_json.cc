@@ -31,6 +31,7 @@ Json ToJson(const services::InstanceClassificationResult& r) {
           {"applied", r.applied},
           {"labels", Json(r.labels)},
           {"label_source", r.label_source},
+          {"event", r.event ? Json(*r.event) : Json(nullptr)},
           {"segment", r.segment},
           {"keyframe", r.keyframe ? Json(*r.keyframe) : Json(nullptr)},
           {"points", r.points},

@@ -1,6 +1,7 @@
 #include "storage/migrations.h"
 
 #include <chrono>
+#include <string_view>
 
 #include "schema/error.h"
 
@@ -26,8 +27,30 @@ MigrationReport ApplyMigrations(Connection& connection, const std::vector<Migrat
       "applied_ns INTEGER NOT NULL)");
   for (const Migration& m : migrations) {
     if (m.version <= report.from_version) continue;
+    // A file that rebuilds a table (SQLite's procedure for schema changes ALTER TABLE cannot make, such as a CHECK
+    // constraint) must not let the DROP of the old table cascade into the tables that reference it: it runs with
+    // foreign keys off, which SQLite only switches outside a transaction, and the keys are checked before commit.
+    const bool foreign_keys_off = std::string_view(m.sql).find(kForeignKeysOffMarker) != std::string_view::npos;
+    if (foreign_keys_off) connection.Exec("PRAGMA foreign_keys = OFF");
+    struct ForeignKeysBackOn {  // after a failure (the success path switches them on itself, and reports errors)
+      Connection& c;
+      bool armed;
+      ~ForeignKeysBackOn() {
+        try {
+          if (armed) c.Exec("PRAGMA foreign_keys = ON");
+        } catch (const Error&) {  // the migration's own error is the one to report
+        }
+      }
+    } back_on{connection, foreign_keys_off};
     Transaction tx(connection);
     connection.Exec(m.sql);
+    if (foreign_keys_off) {
+      Statement check(connection, "PRAGMA foreign_key_check");
+      if (check.Step()) {
+        throw Error(ErrorCode::kInternal, std::string("migration ") + m.name + " leaves a row of table '" + check.Text(0) +
+                                              "' whose foreign key has no parent; nothing was changed");
+      }
+    }
     const auto now_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
                             std::chrono::system_clock::now().time_since_epoch()).count();
     Statement(connection, "INSERT INTO schema_migrations (version, name, applied_ns) VALUES (?, ?, ?)")
@@ -37,6 +60,10 @@ MigrationReport ApplyMigrations(Connection& connection, const std::vector<Migrat
         .Run();
     connection.Exec("PRAGMA user_version = " + std::to_string(m.version));
     tx.Commit();
+    if (foreign_keys_off) {
+      back_on.armed = false;
+      connection.Exec("PRAGMA foreign_keys = ON");
+    }
     report.applied.emplace_back(m.name);
   }
   report.to_version = UserVersion(connection);

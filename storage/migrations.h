@@ -22,8 +22,13 @@ struct MigrationReport {
   std::vector<std::string> applied;  // file names applied now
 };
 
+// A migration whose SQL contains this line runs with foreign keys off (a table rebuild; see ApplyMigrations).
+inline constexpr const char* kForeignKeysOffMarker = "-- anchordb: foreign_keys off";
+
 // Applies every migration newer than the database's `PRAGMA user_version`, each in its own transaction,
-// recording it in `schema_migrations`. A database whose version is newer than the newest known migration is
+// recording it in `schema_migrations`. A migration marked with kForeignKeysOffMarker runs with foreign keys off
+// (so that dropping a table it rebuilds does not cascade) and fails, changing nothing, when `PRAGMA
+// foreign_key_check` finds a violation before its commit; foreign keys are on again afterwards either way. A database whose version is newer than the newest known migration is
 // refused (Error kConflict) with a message naming both versions; nothing is changed then.
 MigrationReport ApplyMigrations(Connection& connection, const std::vector<Migration>& migrations);
 

@@ -57,6 +57,10 @@ std::string LabelledExplanation(bool from_operator) {
                        : "a person named the object in dialog";
 }
 
+std::string ClassifiedExplanation(const std::string& classifier) {
+  return "classifier '" + classifier + "' named the object from its segment; a person's label would replace it";
+}
+
 bool IsPluralLabel(const std::string& label) { return !label.empty() && label.back() == 's'; }
 
 std::string MapPositionPhrase(const Eigen::Vector3d& p) {

@@ -23,6 +23,8 @@ std::string MoveExplanation(const std::string& label, std::int64_t instance_id, 
 std::string ReanalysisAddedExplanation(std::int64_t keyframe_id, std::int64_t background_scene_id);
 std::string ReanalysisRemovedExplanation(std::int64_t background_scene_id);
 std::string LabelledExplanation(bool from_operator);
+// A classifier's class became the label of an object nobody named.
+std::string ClassifiedExplanation(const std::string& classifier);
 
 // English agreement by the label's last letter ("keys are", "the mug is"): good enough for spoken answers.
 bool IsPluralLabel(const std::string& label);

@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "engine/classification/object_labels.h"
+#include "engine/events/sentences.h"
 #include "engine/features/extraction.h"
 #include "engine/features/features.h"
 #include "engine/scene/projection.h"
@@ -12,6 +13,7 @@
 #include "schema/json_io.h"
 #include "services/classification/classifier_service.h"
 #include "services/common/require.h"
+#include "services/events/event_details.h"
 #include "services/scene/keyframe_listener.h"
 #include "storage/blob_codec.h"
 #include "storage/feature_repository.h"
@@ -184,12 +186,28 @@ InstanceClassificationResult ClassifierService::ClassifyInstance(const ClassifyI
     row.segment_id = in.segment.id;
     row.keyframe_id = result.keyframe;
     row.stamp_ns = clock_.NowNs();
+    const auto before = storage::FindInstanceClassification(c, request.map, request.instance);
     storage::UpsertInstanceClassification(c, row);
     const engine::LabelWeights named = nlohmann::json::parse(r.labels_json).get<engine::LabelWeights>();
     const engine::EffectiveLabels effective = engine::EffectiveObjectLabels(named, r.label_locked, classified);
     result.applied = engine::ClassifierLabelApplies(named, r.label_locked);
     result.label_source = engine::LabelSourceName(effective.source);
     result.labels = effective.distribution;
+    if (result.applied && (!before || before->label != result.label)) {
+      storage::EventRecord e;
+      e.map_id = request.map;
+      e.type = "labelled";
+      e.detection = "classifier";
+      e.stamp_ns = row.stamp_ns;
+      e.created_ns = row.stamp_ns;
+      e.instance_id = request.instance;
+      e.label = result.label;
+      e.explanation = engine::ClassifiedExplanation(request.classifier);
+      EventDetails details;
+      details.labels = effective.distribution;
+      e.details_json = EncodeEventDetails(details);
+      result.event = storage::InsertEvent(c, e);
+    }
   });
   return result;
 }

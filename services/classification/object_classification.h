@@ -34,6 +34,10 @@ struct InstanceClassificationResult {
   bool applied = false;
   std::string label_source;     // of the instance's labels afterwards: classifier | dialog | operator | none
   engine::LabelWeights labels;  // the instance's label distribution afterwards
+  // The "labelled" event (detection "classifier") written when the classification became the instance's label with
+  // another most probable class than its previous classification had; none when a person's label stands or the
+  // class did not change.
+  std::optional<std::int64_t> event;
   std::int64_t segment = 0;     // the segment classified
   std::optional<std::int64_t> keyframe;  // whose cloud gave its points (none: the segment's stored sample)
   int points = 0;               // points of the segment classified

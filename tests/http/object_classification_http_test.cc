@@ -148,6 +148,14 @@ TEST_F(ObjectClassificationHttpTest, SegmentIsClassifiedOperatorLabelWinsWhereIs
   EXPECT_TRUE(result["applied"].get<bool>());
   EXPECT_EQ(result["label_source"], "classifier");
   EXPECT_EQ(result["features"]["fpfh"]["bag"], probe["features"]["fpfh"]["bag"]);  // deterministic extraction
+  // The new most probable class is a "labelled" event of the classifier; the same class again writes none.
+  ASSERT_TRUE(result["event"].is_number()) << result.dump();
+  const json labelled = Raw("GET", "/v1/maps/home/events?type=labelled&instance=" + std::to_string(box), "", 200);
+  ASSERT_EQ(labelled["events"].size(), 2u) << labelled.dump();  // the probe's class, then "box"
+  EXPECT_EQ(labelled["events"][1]["id"], result["event"]);
+  EXPECT_EQ(labelled["events"][1]["detection"], "classifier");
+  EXPECT_EQ(labelled["events"][1]["label"], "box");
+  EXPECT_TRUE(Call("POST", classify, json({{"classifier", "objects"}}), 200)["event"].is_null());
   // The listing's label filter finds the object by the labels it shows (the classifier's: nobody named it).
   const auto listed = [&](const std::string& label) {
     std::vector<std::int64_t> ids;
@@ -221,6 +229,7 @@ TEST_F(ObjectClassificationHttpTest, SegmentIsClassifiedOperatorLabelWinsWhereIs
   EXPECT_EQ(named["classification"]["label"], "box");
   EXPECT_EQ(Raw("GET", "/v1/maps/home/where?label=mug", "", 200)["label_source"], "operator");
   Raw("GET", "/v1/maps/home/where?label=box", "", 404);  // the only box was named a mug by the operator
+  EXPECT_TRUE(again["event"].is_null());  // not applied: no label event
   EXPECT_TRUE(listed("box").empty());
   EXPECT_EQ(listed("mug"), std::vector<std::int64_t>{box});
   // Sparser keypoints give the same segment fewer features.

@@ -5,6 +5,7 @@
 
 #include "schema/error.h"
 #include "storage/blob_codec.h"
+#include "storage/migrations.h"
 #include "storage/repositories.h"
 #include "tests/support/temp_dir.h"
 
@@ -84,6 +85,67 @@ TEST(MigrationsTest, FailingMigrationRollsBackAndKeepsVersion) {
   Statement s(c, "SELECT count(*) FROM sqlite_master WHERE name = 'b'");
   s.Step();
   EXPECT_EQ(s.Int(0), 0);
+}
+
+// Migration 0016 rebuilds the events table (a new CHECK) with foreign keys off: the rows, the rows that reference
+// events (instance_history.event_id; ON DELETE SET NULL would have cleared it on a cascading DROP) and the
+// AUTOINCREMENT high-water mark (an id once served is never reused) all survive, and foreign keys are on after it.
+TEST(MigrationsTest, TheEventsRebuildKeepsRowsReferencesAndTheIdHighWaterMark) {
+  testing::TempDir dir;
+  Connection c(dir.File("db.sqlite"), {});
+  std::vector<Migration> before, all = EmbeddedMigrations();
+  for (const Migration& m : all) {
+    if (m.version < 16) before.push_back(m);
+  }
+  ApplyMigrations(c, before);
+  ASSERT_EQ(UserVersion(c), 15);
+  c.Exec("INSERT INTO maps (id, name, created_ns) VALUES ('m', 'm', 1)");
+  c.Exec("INSERT INTO instances (map_id, kind, status, x_m, y_m, z_m, extent_x_m, extent_y_m, extent_z_m, last_seen_ns, "
+         "created_ns, updated_ns) VALUES ('m', 'object', 'present', 1, 2, 0, 0.1, 0.1, 0.1, 5, 5, 5)");
+  for (int i = 1; i <= 3; ++i) {
+    c.Exec("INSERT INTO events (map_id, type, detection, stamp_ns, instance_id, label, created_ns) VALUES ('m', "
+           "'labelled', 'dialog', " + std::to_string(i) + ", 1, 'cup', " + std::to_string(i) + ")");
+  }
+  c.Exec("DELETE FROM events WHERE id = 3");  // the newest id is gone; 3 must still never come back
+  c.Exec("INSERT INTO instance_history (instance_id, seq, stamp_ns, present, x_m, y_m, z_m, event_id) "
+         "VALUES (1, 1, 2, 1, 1, 2, 0, 2)");
+  const auto count = [&](const std::string& sql) {
+    Statement s(c, sql);
+    s.Step();
+    return s.Int(0);
+  };
+  EXPECT_THROW(c.Exec("INSERT INTO events (map_id, type, detection, stamp_ns, created_ns) VALUES ('m', 'labelled', "
+                      "'classifier', 9, 9)"), Error);
+
+  const MigrationReport report = ApplyMigrations(c, all);
+  EXPECT_EQ(report.to_version, all.back().version);
+  EXPECT_EQ(count("SELECT count(*) FROM events"), 2);
+  EXPECT_EQ(count("SELECT event_id FROM instance_history WHERE instance_id = 1"), 2);
+  EXPECT_EQ(count("SELECT count(*) FROM pragma_foreign_key_check"), 0);
+  EXPECT_EQ(count("PRAGMA foreign_keys"), 1);
+  EXPECT_EQ(count("SELECT count(*) FROM sqlite_master WHERE type = 'index' AND tbl_name = 'events'"), 2);
+  c.Exec("INSERT INTO events (map_id, type, detection, stamp_ns, created_ns) VALUES ('m', 'labelled', 'classifier', 9, 9)");
+  EXPECT_EQ(count("SELECT max(id) FROM events"), 4);
+  // Foreign keys are enforced again: deleting the map cascades into its events.
+  c.Exec("DELETE FROM maps WHERE id = 'm'");
+  EXPECT_EQ(count("SELECT count(*) FROM events"), 0);
+}
+
+TEST(MigrationsTest, AMigrationWithForeignKeysOffThatBreaksAKeyChangesNothing) {
+  testing::TempDir dir;
+  Connection c(dir.File("db.sqlite"), {});
+  const std::string marked = std::string(kForeignKeysOffMarker) + "\nINSERT INTO child (parent) VALUES (7);";
+  const std::vector<Migration> migrations = {
+      {1, "0001_tables.sql", "CREATE TABLE parent (id INTEGER PRIMARY KEY); CREATE TABLE child (parent INTEGER REFERENCES parent(id));"},
+      {2, "0002_orphan.sql", marked.c_str()}};
+  EXPECT_THROW(ApplyMigrations(c, migrations), Error);
+  EXPECT_EQ(UserVersion(c), 1);
+  Statement rows(c, "SELECT count(*) FROM child");
+  rows.Step();
+  EXPECT_EQ(rows.Int(0), 0);
+  Statement on(c, "PRAGMA foreign_keys");
+  on.Step();
+  EXPECT_EQ(on.Int(0), 1);
 }
 
 TEST(StoreTest, PragmasAreSet) {
