@@ -317,8 +317,9 @@ struct FileHeader {
   std::string_view nodes;  // the bytes after the header's `data` line
 };
 
-FileHeader ReadFileHeader(std::string_view bytes, const char* what) {
-  std::istringstream in(std::string(bytes), std::ios::binary);
+// Reads the header from `in` (a stream over `bytes`, at its start) and puts `in` back at the start, so that the one
+// copy of the body serves the header check and liboctomap's read.
+FileHeader ReadFileHeader(std::istringstream& in, std::string_view bytes, const char* what) {
   std::string first_line;
   std::getline(in, first_line);
   FileHeader h;
@@ -329,6 +330,8 @@ FileHeader ReadFileHeader(std::string_view bytes, const char* what) {
   const std::streamoff at = in.good() ? static_cast<std::streamoff>(in.tellg()) : -1;
   h.nodes = at >= 0 && static_cast<std::size_t>(at) <= bytes.size() ? bytes.substr(static_cast<std::size_t>(at))
                                                                     : std::string_view{};
+  in.clear();
+  in.seekg(0);
   return h;
 }
 
@@ -341,12 +344,12 @@ void OccupancyTree::ReadOt(std::string_view bytes, std::int64_t stamp_ns) {
   }
   // liboctomap builds whatever tree type the header names and reads a cut-off node stream past its end: only an
   // OcTree ("1" is its old name) whose nodes lie whole inside the body goes on.
-  const FileHeader header = ReadFileHeader(bytes, ".ot file");
+  std::istringstream in(std::string(bytes), std::ios::binary);
+  const FileHeader header = ReadFileHeader(in, bytes, ".ot file");
   if (header.id != "OcTree" && header.id != "1") {
     throw Error(ErrorCode::kInvalidArgument, ".ot file holds a '" + header.id + "', not an OcTree", "body");
   }
   CheckOtNodeStream(header.nodes);
-  std::istringstream in(std::string(bytes), std::ios::binary);
   std::unique_ptr<octomap::AbstractOcTree> read(octomap::AbstractOcTree::read(in));
   if (!read) throw Error(ErrorCode::kInvalidArgument, ".ot file does not decode", "body");
   RequireWholeStream(in, ".ot file");
@@ -371,10 +374,10 @@ void OccupancyTree::ReadBt(std::string_view bytes, std::int64_t stamp_ns) {
   }
   // Resolution from the header, so the tree is built at the file's resolution (readBinary also sets it).
   // liboctomap reads a cut-off node stream past its end; it reads no nodes when the header's size is 0.
-  const FileHeader header = ReadFileHeader(bytes, ".bt file");
+  std::istringstream in(std::string(bytes), std::ios::binary);
+  const FileHeader header = ReadFileHeader(in, bytes, ".bt file");
   if (header.size > 0) CheckBtNodeStream(header.nodes);
   auto fresh = std::make_unique<Impl>(impl_->params);
-  std::istringstream in(std::string(bytes), std::ios::binary);
   if (!fresh->tree.readBinary(in)) throw Error(ErrorCode::kInvalidArgument, ".bt file does not decode", "body");
   RequireWholeStream(in, ".bt file");
   fresh->params.resolution_m = fresh->tree.getResolution();
