@@ -134,10 +134,13 @@ std::vector<InstanceRecord> ListInstances(Connection& c, const std::string& map_
   if (f.label && !f.label_from_classifier) {
     sql += " AND id IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1 AND label = ?6)";
   } else if (f.label) {
-    sql += " AND (id IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1 AND label = ?6)"
-           " OR (?6 != 'unknown' AND id NOT IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1)"
-           " AND id IN (SELECT k.instance_id FROM instance_classifications AS k, json_each(k.distribution) AS j"
-           " WHERE k.map_id = ?1 AND j.key = ?6 AND j.value > 0)))";
+    // One IN list (an OR of two would make SQLite scan the map's instances); a distribution that is not valid JSON
+    // counts as no classification instead of failing the query.
+    sql += " AND id IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1 AND label = ?6"
+           " UNION SELECT k.instance_id FROM instance_classifications AS k,"
+           " json_each(CASE WHEN json_valid(k.distribution) THEN k.distribution ELSE '{}' END) AS j"
+           " WHERE k.map_id = ?1 AND j.key = ?6 AND j.value > 0 AND ?6 != 'unknown'"
+           " AND k.instance_id NOT IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1))";
   }
   sql += " ORDER BY id LIMIT ?5";
   Statement s(c, sql);

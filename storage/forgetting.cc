@@ -85,11 +85,12 @@ void DropSupersededState(Connection& c, ForgetReport& r, const ForgetProgress& p
 
 // 2. Old events nobody needs.
 void DeleteEvents(Connection& c, ForgetReport& r, std::int64_t cutoff, const ForgetProgress& progress) {
-  // Latest event of an instance: the greatest (stamp_ns, id) among its events.
+  // Latest event of an instance: the greatest (stamp_ns, id) among its events that place it (a 'labelled' event
+  // names it and is kept anyway; it proves no position).
   const char* kSelect =
       "SELECT e.id, e.pinned, e.type = 'labelled', coalesce(i.pinned, 0), "
       "  e.instance_id IS NOT NULL AND e.id = (SELECT l.id FROM events l WHERE l.instance_id = e.instance_id "
-      "                                        ORDER BY l.stamp_ns DESC, l.id DESC LIMIT 1) "
+      "                                        AND l.type <> 'labelled' ORDER BY l.stamp_ns DESC, l.id DESC LIMIT 1) "
       "FROM events e LEFT JOIN instances i ON i.id = e.instance_id "
       "WHERE e.map_id = ? AND e.stamp_ns < ? ORDER BY e.id";
   Statement select(c, kSelect);

@@ -13,6 +13,14 @@ int UserVersion(Connection& connection) {
   return static_cast<int>(s.Int(0));
 }
 
+namespace {
+std::int64_t CountOf(Connection& connection, const char* sql) {
+  Statement s(connection, sql);
+  s.Step();
+  return s.Int(0);
+}
+}  // namespace
+
 MigrationReport ApplyMigrations(Connection& connection, const std::vector<Migration>& migrations) {
   MigrationReport report;
   report.from_version = UserVersion(connection);
@@ -31,25 +39,37 @@ MigrationReport ApplyMigrations(Connection& connection, const std::vector<Migrat
     // constraint) must not let the DROP of the old table cascade into the tables that reference it: it runs with
     // foreign keys off, which SQLite only switches outside a transaction, and the keys are checked before commit.
     const bool foreign_keys_off = std::string_view(m.sql).find(kForeignKeysOffMarker) != std::string_view::npos;
-    if (foreign_keys_off) connection.Exec("PRAGMA foreign_keys = OFF");
+    // Rows whose key has no parent before the file runs (a hand edit, an old bug): the file may not add any.
+    std::int64_t orphans_before = 0;
+    if (foreign_keys_off) {
+      // Inside a transaction the PRAGMA would be ignored without an error, and the rebuild would cascade.
+      if (!sqlite3_get_autocommit(connection.handle())) {
+        throw Error(ErrorCode::kInternal, std::string("migration ") + m.name + " needs foreign keys off, but a transaction is open");
+      }
+      connection.Exec("PRAGMA foreign_keys = OFF");
+      if (CountOf(connection, "PRAGMA foreign_keys") != 0) {
+        connection.Exec("PRAGMA foreign_keys = ON");
+        throw Error(ErrorCode::kInternal, std::string("migration ") + m.name + " needs foreign keys off; SQLite kept them on");
+      }
+      orphans_before = CountOf(connection, "SELECT count(*) FROM pragma_foreign_key_check");
+    }
     struct ForeignKeysBackOn {  // after a failure (the success path switches them on itself, and reports errors)
       Connection& c;
       bool armed;
       ~ForeignKeysBackOn() {
         try {
           if (armed) c.Exec("PRAGMA foreign_keys = ON");
-        } catch (const Error&) {  // the migration's own error is the one to report
+        } catch (...) {  // the migration's own error is the one to report
         }
       }
     } back_on{connection, foreign_keys_off};
     Transaction tx(connection);
     connection.Exec(m.sql);
-    if (foreign_keys_off) {
+    if (foreign_keys_off && CountOf(connection, "SELECT count(*) FROM pragma_foreign_key_check") > orphans_before) {
       Statement check(connection, "PRAGMA foreign_key_check");
-      if (check.Step()) {
-        throw Error(ErrorCode::kInternal, std::string("migration ") + m.name + " leaves a row of table '" + check.Text(0) +
-                                              "' whose foreign key has no parent; nothing was changed");
-      }
+      check.Step();
+      throw Error(ErrorCode::kInternal, std::string("migration ") + m.name + " would leave rows whose foreign key has no "
+                                            "parent (table '" + check.Text(0) + "'); nothing was changed");
     }
     const auto now_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
                             std::chrono::system_clock::now().time_since_epoch()).count();

@@ -28,7 +28,8 @@ inline constexpr const char* kForeignKeysOffMarker = "-- anchordb: foreign_keys 
 // Applies every migration newer than the database's `PRAGMA user_version`, each in its own transaction,
 // recording it in `schema_migrations`. A migration marked with kForeignKeysOffMarker runs with foreign keys off
 // (so that dropping a table it rebuilds does not cascade) and fails, changing nothing, when `PRAGMA
-// foreign_key_check` finds a violation before its commit; foreign keys are on again afterwards either way. A database whose version is newer than the newest known migration is
+// foreign_key_check` finds more violations before its commit than before it ran (rows orphaned earlier do not block
+// start-up); foreign keys are on again afterwards either way. A database whose version is newer than the newest known migration is
 // refused (Error kConflict) with a message naming both versions; nothing is changed then.
 MigrationReport ApplyMigrations(Connection& connection, const std::vector<Migration>& migrations);
 

@@ -35,8 +35,8 @@ struct InstanceClassificationResult {
   std::string label_source;     // of the instance's labels afterwards: classifier | dialog | operator | none
   engine::LabelWeights labels;  // the instance's label distribution afterwards
   // The "labelled" event (detection "classifier") written when the classification became the instance's label with
-  // another most probable class than its previous classification had; none when a person's label stands or the
-  // class did not change.
+  // another most probable class than its previous classification showed; none when a person's label stands, the
+  // shown class did not change, or nothing but the rejection class 'unknown' has a share.
   std::optional<std::int64_t> event;
   std::int64_t segment = 0;     // the segment classified
   std::optional<std::int64_t> keyframe;  // whose cloud gave its points (none: the segment's stored sample)

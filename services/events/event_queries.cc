@@ -227,7 +227,7 @@ WhereAnswer EventService::Where(const std::string& map, const WhereRequest& requ
       instances.clear();
       candidates.clear();
       positions.clear();
-      f.label_from_classifier = true;  // only the objects whose classification has the label (an index-backed query)
+      f.label_from_classifier = true;  // only the objects whose classification gives the label a share (in SQL)
       for (auto& r : storage::ListInstances(c, map, f, false)) {
         const auto k = storage::FindInstanceClassification(c, map, r.id);
         if (!k) continue;  // named by a person, and found by the first pass's rules

@@ -67,7 +67,9 @@ class JobService::Context final : public JobContext {
 
 JobService::JobService(storage::Store& store, JobSettings settings, const Clock& clock)
     : store_(store), settings_(std::move(settings)), clock_(clock) {
-  std::map<std::string, std::string> notes_after_result;  // a job stopped after its work committed says so
+  // A job stopped after its work committed says so. Only the kinds registered here can: the others (Register)
+  // come after this start-up pass, and none of them records a result before its end today.
+  std::map<std::string, std::string> notes_after_result;
   for (JobKind kind : {ForgetJobKind(store_.path(), settings_), BackupJobKind(store_.path(), settings_)}) {
     if (!kind.note_when_failed_after_result.empty()) notes_after_result[kind.name] = kind.note_when_failed_after_result;
     registry_.Register(std::move(kind));

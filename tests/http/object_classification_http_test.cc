@@ -133,9 +133,18 @@ TEST_F(ObjectClassificationHttpTest, SegmentIsClassifiedOperatorLabelWinsWhereIs
   EXPECT_EQ(probe["keyframe"], keyframe);  // the points came from the keyframe that saw the box appear
   const std::vector<double> bag = probe["features"]["fpfh"]["bag"].get<std::vector<double>>();
   ASSERT_EQ(bag.size(), 6u);
-  // Trained on bags like the box's ("box") and on the mirror image of it ("plant"), a classifier names it a box.
+  ASSERT_TRUE(probe["event"].is_number());  // the probe's class is the first label the object shows
+  // A classifier that calls the box 'unknown' with every vote (the rejection class, never shown as a label): the
+  // object then shows no label, and no event is written (an event never names 'unknown').
   const std::vector<double> mirrored(bag.rbegin(), bag.rend());
   ASSERT_NE(mirrored, bag);
+  ASSERT_EQ(Train("guard", Samples({{"unknown", bag}, {"plant", mirrored}}, "fpfh", 8, 5)).value("status", ""), "succeeded");
+  const json guard = Call("POST", classify, json({{"classifier", "guard"}}), 200);
+  EXPECT_EQ(guard["label"], "unknown") << guard.dump();
+  EXPECT_EQ(guard["label_source"], "none") << guard.dump();
+  EXPECT_TRUE(guard["labels"].empty()) << guard.dump();
+  EXPECT_TRUE(guard["event"].is_null()) << guard.dump();
+  // Trained on bags like the box's ("box") and on the mirror image of it ("plant"), a classifier names it a box.
   ASSERT_EQ(Train("objects", Samples({{"box", bag}, {"plant", mirrored}}, "fpfh", 8, 3)).value("status", ""), "succeeded");
   const json result = Call("POST", classify, json({{"classifier", "objects"}}), 200);
   std::printf("segment %s: %d points, %d fpfh features, bag %s; p(box) %.3f\n", result["segment"].dump().c_str(),
@@ -152,9 +161,11 @@ TEST_F(ObjectClassificationHttpTest, SegmentIsClassifiedOperatorLabelWinsWhereIs
   ASSERT_TRUE(result["event"].is_number()) << result.dump();
   const json labelled = Raw("GET", "/v1/maps/home/events?type=labelled&instance=" + std::to_string(box), "", 200);
   ASSERT_EQ(labelled["events"].size(), 2u) << labelled.dump();  // the probe's class, then "box"
-  EXPECT_EQ(labelled["events"][1]["id"], result["event"]);
-  EXPECT_EQ(labelled["events"][1]["detection"], "classifier");
-  EXPECT_EQ(labelled["events"][1]["label"], "box");
+  const json& last = labelled["events"].back();
+  EXPECT_EQ(last["id"], result["event"]);
+  EXPECT_EQ(last["detection"], "classifier");
+  EXPECT_EQ(last["label"], "box");
+  for (const json& e : labelled["events"]) EXPECT_NE(e["label"], "unknown");
   EXPECT_TRUE(Call("POST", classify, json({{"classifier", "objects"}}), 200)["event"].is_null());
   // The listing's label filter finds the object by the labels it shows (the classifier's: nobody named it).
   const auto listed = [&](const std::string& label) {

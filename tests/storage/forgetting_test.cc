@@ -50,7 +50,9 @@ class forgetting : public ForgetFixture {
     e_latest = Event("added", kNow - 35 * kDay, i1, s_latest, {{ka2, "after"}});
     e_pinned_instance = Event("added", old_event, i2, std::nullopt, {});
     e_pinned = Event("added", old_event, std::nullopt, std::nullopt, {}, true);
-    e_labelled = Event("labelled", old_event, std::nullopt, std::nullopt, {});
+    // A label of i1 newer than its latest position event: kept as a label, and not the event that proves i1's
+    // position (a classifier labels objects long after they were seen).
+    e_labelled = Event("labelled", kNow - 34 * kDay, i1, std::nullopt, {});
     e_no_instance = Event("added", old_event, std::nullopt, std::nullopt, {});
     e_recent = Event("removed", kNow - 1 * kDay, std::nullopt, std::nullopt, {});
     e_pinned_instance_newer = Event("moved", kNow - 2 * kDay, i2, std::nullopt, {});

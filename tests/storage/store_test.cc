@@ -134,18 +134,36 @@ TEST(MigrationsTest, TheEventsRebuildKeepsRowsReferencesAndTheIdHighWaterMark) {
 TEST(MigrationsTest, AMigrationWithForeignKeysOffThatBreaksAKeyChangesNothing) {
   testing::TempDir dir;
   Connection c(dir.File("db.sqlite"), {});
-  const std::string marked = std::string(kForeignKeysOffMarker) + "\nINSERT INTO child (parent) VALUES (7);";
+  const auto count = [&](const char* sql) {
+    Statement s(c, sql);
+    s.Step();
+    return s.Int(0);
+  };
+  const std::string marker = kForeignKeysOffMarker;
+  const std::string rebuild = marker + "\nCREATE TABLE parent_new (id INTEGER PRIMARY KEY); INSERT INTO parent_new "
+                                       "SELECT id FROM parent; DROP TABLE parent; ALTER TABLE parent_new RENAME TO parent;";
+  const std::string orphan = marker + "\nINSERT INTO child (parent) VALUES (7);";
   const std::vector<Migration> migrations = {
-      {1, "0001_tables.sql", "CREATE TABLE parent (id INTEGER PRIMARY KEY); CREATE TABLE child (parent INTEGER REFERENCES parent(id));"},
-      {2, "0002_orphan.sql", marked.c_str()}};
-  EXPECT_THROW(ApplyMigrations(c, migrations), Error);
-  EXPECT_EQ(UserVersion(c), 1);
-  Statement rows(c, "SELECT count(*) FROM child");
-  rows.Step();
-  EXPECT_EQ(rows.Int(0), 0);
-  Statement on(c, "PRAGMA foreign_keys");
-  on.Step();
-  EXPECT_EQ(on.Int(0), 1);
+      {1, "0001_tables.sql", "CREATE TABLE parent (id INTEGER PRIMARY KEY); "
+                             "CREATE TABLE child (parent INTEGER REFERENCES parent(id) ON DELETE CASCADE);"
+                             "INSERT INTO parent VALUES (1); INSERT INTO child VALUES (1);"},
+      {2, "0002_rebuild.sql", rebuild.c_str()},
+      {3, "0003_orphan.sql", orphan.c_str()}};
+  // A row orphaned before (by hand, keys off) does not block a rebuild that orphans nothing.
+  ApplyMigrations(c, {migrations[0]});
+  c.Exec("PRAGMA foreign_keys = OFF");
+  c.Exec("INSERT INTO child (parent) VALUES (5)");
+  c.Exec("PRAGMA foreign_keys = ON");
+  EXPECT_THROW(ApplyMigrations(c, migrations), Error);  // 0002 applies; 0003 adds an orphan and is rolled back
+  EXPECT_EQ(UserVersion(c), 2);
+  EXPECT_EQ(count("SELECT count(*) FROM child"), 2);  // the rebuild's DROP did not cascade into child
+  EXPECT_EQ(count("PRAGMA foreign_keys"), 1);
+  // Inside an open transaction the PRAGMA would be ignored: the runner refuses instead of cascading.
+  c.Exec("BEGIN");
+  const std::vector<Migration> again = {migrations[0], migrations[1], {3, "0003_rebuild_again.sql", rebuild.c_str()}};
+  EXPECT_THROW(ApplyMigrations(c, again), Error);
+  c.Exec("ROLLBACK");
+  EXPECT_EQ(UserVersion(c), 2);
 }
 
 TEST(StoreTest, PragmasAreSet) {
