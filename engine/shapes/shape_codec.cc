@@ -1,5 +1,8 @@
-// The shape model blob: "ANCHSHM1", then the parameters, the codebook and the categories' vote bins, little-endian
-// (the host order of every supported target), strings length-prefixed.
+// The shape model blob: "ANCHSHM2", then the parameters, the codebook and the categories' vote bins and training
+// sizes, little-endian (the host order of every supported target), strings length-prefixed. Version 1 ("ANCHSHM1")
+// is read too: it lacks the three size parameters (after the seed) and the sizes (after each category's words);
+// such a model verifies by votes only (size_weight 0).
+#include <cmath>
 #include <cstring>
 
 #include "engine/shapes/shape_model.h"
@@ -8,7 +11,7 @@
 namespace anchordb::engine {
 namespace {
 
-constexpr char kMagic[8] = {'A', 'N', 'C', 'H', 'S', 'H', 'M', '1'};
+constexpr char kMagic[8] = {'A', 'N', 'C', 'H', 'S', 'H', 'M', '2'};  // the last byte: the version
 constexpr std::uint32_t kMaxCount = 1u << 26;
 
 class Writer {
@@ -71,6 +74,7 @@ std::string EncodeShapeModel(const ShapeModel& m) {
   }
   for (int v : {p.codebook_size, p.activated_words, p.azimuth_bins, p.polar_bins, p.max_keypoints}) w.Pod<std::int32_t>(v);
   w.Pod<std::uint64_t>(p.seed);
+  for (double v : {p.size_weight, p.size_bandwidth, p.size_floor}) w.Pod<double>(v);
   w.Pod<std::int32_t>(m.descriptor_dims);
   w.Pod<std::uint32_t>(static_cast<std::uint32_t>(m.codebook.size()));
   for (float v : m.codebook) w.Pod<float>(v);
@@ -87,15 +91,21 @@ std::string EncodeShapeModel(const ShapeModel& m) {
         w.Pod<float>(b.weight);
       }
     }
+    w.Pod<std::uint32_t>(static_cast<std::uint32_t>(c.sizes.size()));
+    for (const auto& size : c.sizes) {
+      for (float v : {size.height_m, size.length_m, size.width_m}) w.Pod<float>(v);
+    }
   }
   return w.Take();
 }
 
 ShapeModel DecodeShapeModel(std::string_view bytes) {
   Reader r(bytes);
-  for (char c : kMagic) {
-    if (r.Pod<char>() != c) Reader::Fail("wrong magic");
+  for (std::size_t i = 0; i + 1 < sizeof kMagic; ++i) {
+    if (r.Pod<char>() != kMagic[i]) Reader::Fail("wrong magic");
   }
+  const char version = r.Pod<char>();
+  if (version != '1' && version != '2') Reader::Fail("wrong magic");
   ShapeModel m;
   auto& p = m.params;
   for (double* v : {&p.voxel_m, &p.normal_radius_m, &p.boundary_angle_rad, &p.keypoint_spacing_m, &p.shot_radius_m,
@@ -106,6 +116,11 @@ ShapeModel DecodeShapeModel(std::string_view bytes) {
     *v = r.Pod<std::int32_t>();
   }
   p.seed = r.Pod<std::uint64_t>();
+  if (version == '1') {
+    p.size_weight = 0;
+  } else {
+    for (double* v : {&p.size_weight, &p.size_bandwidth, &p.size_floor}) *v = r.Pod<double>();
+  }
   try {
     CheckShapeModelParams(p);
   } catch (const Error& e) {
@@ -133,6 +148,15 @@ ShapeModel DecodeShapeModel(std::string_view bytes) {
         b.bin = r.Pod<std::int32_t>();
         b.weight = r.Pod<float>();
         if (b.bin < 0 || b.bin >= bins) Reader::Fail("vote bin out of range");
+      }
+    }
+    if (version != '1') {
+      c.sizes.resize(r.Count());
+      for (auto& size : c.sizes) {
+        for (float* v : {&size.height_m, &size.length_m, &size.width_m}) {
+          *v = r.Pod<float>();
+          if (!std::isfinite(*v) || *v < 0) Reader::Fail("size out of range");
+        }
       }
     }
     m.categories.push_back(std::move(c));

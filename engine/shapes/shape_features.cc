@@ -138,3 +138,50 @@ LocalFeatures ComputeLocalFeatures(const std::vector<Eigen::Vector3f>& points_m,
 }
 
 }  // namespace anchordb::engine::shapes_detail
+
+namespace anchordb::engine {
+
+CloudSize MeasureCloudSize(const std::vector<Eigen::Vector3f>& points_m) {
+  CloudSize out;
+  if (points_m.empty()) return out;
+  const auto span = [](std::vector<float> v, double lo, double hi) {
+    const auto at = [&](double q) {
+      const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())));
+      std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+      return v[k];
+    };
+    const float a = at(lo);
+    return at(hi) - a;
+  };
+  std::vector<float> z;
+  z.reserve(points_m.size());
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& p : points_m) {
+    z.push_back(p.z());
+    mean += p.head<2>().cast<double>();
+  }
+  mean /= static_cast<double>(points_m.size());
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (const auto& p : points_m) {
+    const Eigen::Vector2d d = p.head<2>().cast<double>() - mean;
+    cov += d * d.transpose();
+  }
+  // The major axis of the horizontal spread (closed form for a symmetric 2 x 2 matrix).
+  const double angle = 0.5 * std::atan2(2 * cov(0, 1), cov(0, 0) - cov(1, 1));
+  const Eigen::Vector2d major(std::cos(angle), std::sin(angle)), minor(-std::sin(angle), std::cos(angle));
+  std::vector<float> a, b;
+  a.reserve(points_m.size());
+  b.reserve(points_m.size());
+  for (const auto& p : points_m) {
+    const Eigen::Vector2d d = p.head<2>().cast<double>() - mean;
+    a.push_back(static_cast<float>(d.dot(major)));
+    b.push_back(static_cast<float>(d.dot(minor)));
+  }
+  out.height_m = span(std::move(z), 0.01, 0.99);
+  const float l = span(std::move(a), 0.02, 0.98), w = span(std::move(b), 0.02, 0.98);
+  out.length_m = std::max(l, w);
+  out.width_m = std::min(l, w);
+  return out;
+}
+
+}  // namespace anchordb::engine

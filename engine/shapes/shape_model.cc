@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <random>
 
@@ -46,6 +47,32 @@ int DirectionBin(const Eigen::Vector3f& local, int azimuth_bins, int polar_bins)
   return q * azimuth_bins + a;
 }
 
+// Per category log(kernel density + floor) of `size` among its training clouds' sizes (log height, length and
+// width; Gaussian kernels of width size_bandwidth, the density's peak 1); all 0 when the term is off or a category
+// has no training sizes (a version-1 blob).
+std::vector<double> SizeLogLikelihoods(const ShapeModel& model, const CloudSize& size) {
+  const auto& p = model.params;
+  std::vector<double> out(model.categories.size(), 0.0);
+  if (!(p.size_weight > 0)) return out;
+  for (const auto& c : model.categories) {
+    if (c.sizes.empty()) return out;
+  }
+  constexpr double kMinM = 0.01;  // sizes below 1 cm count as 1 cm (a flat or degenerate cloud)
+  const auto logs = [&](const CloudSize& s) {
+    return Eigen::Vector3d(std::log(std::max<double>(s.height_m, kMinM)), std::log(std::max<double>(s.length_m, kMinM)),
+                           std::log(std::max<double>(s.width_m, kMinM)));
+  };
+  const Eigen::Vector3d x = logs(size);
+  for (std::size_t c = 0; c < model.categories.size(); ++c) {
+    double density = 0;
+    for (const CloudSize& s : model.categories[c].sizes) {
+      density += std::exp(-0.5 * (x - logs(s)).squaredNorm() / (p.size_bandwidth * p.size_bandwidth));
+    }
+    out[c] = std::log(density / static_cast<double>(model.categories[c].sizes.size()) + p.size_floor);
+  }
+  return out;
+}
+
 bool Report(const ShapeProgress& progress, double fraction, const std::string& stage) {
   if (progress && !progress(fraction, stage)) throw Error(ErrorCode::kConflict, "training was cancelled", "cancelled");
   return true;
@@ -83,6 +110,11 @@ void CheckShapeModelParams(const ShapeModelParams& p) {
   if (p.max_keypoints < 10 || p.max_keypoints > 100000) {
     throw Error(ErrorCode::kInvalidArgument, "max_keypoints must be in [10, 100000]", "max_keypoints");
   }
+  if (!std::isfinite(p.size_weight) || p.size_weight < 0 || p.size_weight > 10) {
+    throw Error(ErrorCode::kInvalidArgument, "size_weight must be in [0, 10]", "size_weight");
+  }
+  positive(p.size_bandwidth, 5.0, "size_bandwidth");
+  positive(p.size_floor, 1.0, "size_floor");
 }
 
 ShapeModel TrainShapeModel(const std::vector<LabelledCloud>& samples, const ShapeModelParams& params,
@@ -119,6 +151,7 @@ ShapeModel TrainShapeModel(const std::vector<LabelledCloud>& samples, const Shap
     Report(progress, 0.6 * static_cast<double>(s) / samples.size(), "features");
     features[s] = shapes_detail::ComputeLocalFeatures(samples[s].points_m, params, params.seed + 7919 * s);
     centres[s] = Centroid(samples[s].points_m);
+    model.categories[sample_category[s]].sizes.push_back(MeasureCloudSize(samples[s].points_m));
     model.categories[sample_category[s]].keypoints += static_cast<int>(features[s].positions_m.size());
     total += features[s].positions_m.size();
   }
@@ -225,15 +258,23 @@ Verification VerifyAt(const ShapeModel& model, const std::vector<Eigen::Vector3f
   out.centre_m = centre_m;
   const auto f = shapes_detail::ComputeLocalFeatures(points_m, model.params, model.params.seed);
   out.keypoints = static_cast<int>(f.positions_m.size());
+  out.size = MeasureCloudSize(points_m);
   const std::vector<double> weights = shapes_detail::SphereWeights(model, f, centre_m);
-  double sum = std::accumulate(weights.begin(), weights.end(), 0.0);
-  double best = 0;
+  const std::vector<double> size_terms = SizeLogLikelihoods(model, out.size);
+  const double sum = std::accumulate(weights.begin(), weights.end(), 0.0);
+  // p(f) ~ (weight / sum) * p(size | category)^size_weight, in logs; categories without votes keep 0.
+  std::vector<double> log_p(weights.size(), -std::numeric_limits<double>::infinity());
+  double top = -std::numeric_limits<double>::infinity();
+  for (std::size_t c = 0; c < weights.size(); ++c) {
+    if (sum > 0 && weights[c] > 0) log_p[c] = std::log(weights[c] / sum) + model.params.size_weight * size_terms[c];
+    top = std::max(top, log_p[c]);
+  }
+  double norm = 0;
+  for (double v : log_p) norm += std::isfinite(top) ? std::exp(v - top) : 0.0;
   for (std::size_t c = 0; c < model.categories.size(); ++c) {
-    out.scores.push_back(CategoryScore{model.categories[c].name, sum > 0 ? weights[c] / sum : 0.0, weights[c]});
-    if (weights[c] > best) {
-      best = weights[c];
-      out.best = model.categories[c].name;
-    }
+    const double probability = norm > 0 && std::isfinite(log_p[c]) ? std::exp(log_p[c] - top) / norm : 0.0;
+    out.scores.push_back(CategoryScore{model.categories[c].name, probability, weights[c], size_terms[c]});
+    if (std::isfinite(log_p[c]) && log_p[c] == top && out.best.empty()) out.best = model.categories[c].name;
   }
   return out;
 }

@@ -8,13 +8,15 @@
 // over every category's balanced counts). A sphere's weight for a category sums, over the keypoints, log(1 + w / floor)
 // of the keypoint's eq. 4.7 weight w through the sphere (voting.h): agreement of many keypoints, not the mass of a few.
 //
-// Verification mode: one sphere at the centre of a segment -> p(f) over the categories. ShapeDetection mode: spheres on
+// Verification mode: one sphere at the centre of a segment -> p(f) over the categories, times a size term (the
+// segment's height and horizontal extents against each category's training clouds; not in the thesis). ShapeDetection mode: spheres on
 // a grid over a room cloud; every sphere of any category whose weight is >= 75 % of the global maximum is a
 // hypothesis, and neighbours of the same category closer than `merge_distance_m` are merged.
 //
 // Points in metres, in any frame the caller keeps (the model is scale-free in its votes, but the keypoint and SHOT
-// radii are metres). Only std / Eigen types here; PCL and OpenCV stay in the .cc files. Deterministic: the same
-// samples, parameters and seed give the same model and the same predictions.
+// radii are metres) as long as z points up: the size term of verification measures height along z. Only std / Eigen
+// types here; PCL and OpenCV stay in the .cc files. Deterministic: the same samples, parameters and seed give the
+// same model and the same predictions.
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -41,7 +43,23 @@ struct ShapeModelParams {
   double merge_distance_m = 0.40;    // detection: merge accepted spheres of one category closer than this
   int max_keypoints = 1500;          // per cloud, a seeded subsample beyond this
   std::uint64_t seed = 1;
+  // Verification only, a size term (not in the thesis; engine/shapes/README.md): p(f) is the voting share times
+  // p(size | category)^size_weight, p(size | category) a Gaussian kernel density over the category's training clouds
+  // in log height, log length and log width (CloudSize, z up), kernel width `size_bandwidth` (log units), plus
+  // `size_floor` (so that a size no training cloud had costs at most a bounded factor). size_weight 0: votes only.
+  double size_weight = 0.5;
+  double size_bandwidth = 0.2;
+  double size_floor = 0.01;
 };
+
+// The size of a cloud, z up (gravity): height = the 1-99 % span of z; length >= width = the 2-98 % spans along the
+// principal axes of the horizontal (x, y) spread. Frame-independent otherwise (translation, rotation about z).
+struct CloudSize {
+  float height_m = 0;
+  float length_m = 0;
+  float width_m = 0;
+};
+CloudSize MeasureCloudSize(const std::vector<Eigen::Vector3f>& points_m);
 
 struct LabelledCloud {
   std::string category;
@@ -58,6 +76,7 @@ struct CategoryModel {
   int samples = 0;
   int keypoints = 0;
   std::vector<std::vector<VoteBin>> words;  // codebook_size entries
+  std::vector<CloudSize> sizes;              // per training cloud (blob version 2; empty from a version-1 blob)
 };
 
 struct ShapeModel {
@@ -93,16 +112,20 @@ struct CategoryScore {
   std::string category;
   double probability = 0;  // p(f): the category's sphere weight / the sum over categories (0 for all if no votes)
   double weight = 0;       // the sphere's weight: sum over keypoints of log(1 + w / floor), w their eq. 4.7 weights
+  double size_log_likelihood = 0;  // log(kernel density + size_floor) of the cloud's size (0 when the term is off)
 };
 struct Verification {
   Eigen::Vector3f centre_m = Eigen::Vector3f::Zero();  // sphere centre: the centroid of the segment
   std::vector<CategoryScore> scores;                   // in the model's category order
   std::string best;                                    // the most probable category ("" when no ray voted)
   int keypoints = 0;
+  CloudSize size;                                      // of the segment
 };
 
 // Verification mode. Throws Error(kUnprocessable, "points") for an empty cloud or one with non-finite points.
-// A cloud that gives no keypoint answers every probability 0 and best "".
+// A cloud that gives no keypoint answers every probability 0 and best "". probability is the voting share
+// weight / sum times exp(size_weight * size_log_likelihood), normalised over the categories; the size term is used
+// when size_weight > 0 and every category has training sizes (a version-1 blob has none: votes only).
 Verification Verify(const ShapeModel& model, const std::vector<Eigen::Vector3f>& segment_points_m);
 // The same with the sphere at a given centre.
 Verification VerifyAt(const ShapeModel& model, const std::vector<Eigen::Vector3f>& segment_points_m,
@@ -119,8 +142,9 @@ struct ShapeDetection {
 // ShapeDetection mode over a room cloud, strongest first. Same errors as Verify; no keypoint -> no detection.
 std::vector<ShapeDetection> Detect(const ShapeModel& model, const std::vector<Eigen::Vector3f>& room_points_m);
 
-// Versioned binary (de)serialisation ("ANCHSHM1"); decoding checks sizes and throws Error(kInvalidArgument,
-// "model") for truncated or foreign bytes. Encode(Decode(b)) == b.
+// Versioned binary (de)serialisation ("ANCHSHM2": version 1 plus the size parameters and the training sizes);
+// decoding reads "ANCHSHM1" too (size_weight 0, no sizes), checks sizes and throws Error(kInvalidArgument,
+// "model") for truncated or foreign bytes. Encode(Decode(b)) == b for version-2 bytes (version 1 is re-encoded as 2).
 std::string EncodeShapeModel(const ShapeModel& model);
 ShapeModel DecodeShapeModel(std::string_view bytes);
 

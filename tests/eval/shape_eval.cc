@@ -267,7 +267,56 @@ std::vector<TestCase> TestScans(const FurnitureMesh& m, const ShapeEvalConfig& c
   return out;
 }
 
+// The size figures of the verification's size term, for the tuning dump.
+nlohmann::json SizeFigures(const Points& pts) {
+  const engine::CloudSize s = engine::MeasureCloudSize(pts);
+  return {{"n", pts.size()}, {"height", s.height_m}, {"length", s.length_m}, {"width", s.width_m}};
+}
+
 }  // namespace
+
+void DumpFurnitureViews(const ShapeEvalConfig& config, const std::vector<std::uint64_t>& seeds, std::ostream& out,
+                        bool leave_one_out) {
+  const auto meshes = LoadFurniture(config.categories);
+  for (const auto& m : meshes) {  // (a single mesh's scans: noise seeds differ from the training's, sizes hardly)
+    for (const auto& t : TrainingScans({m}, "", config.train_noise)) {
+      out << nlohmann::json{{"kind", "train"}, {"category", t.category}, {"mesh", m.name}, {"size", SizeFigures(t.points_m)}}
+          << "\n";
+    }
+  }
+  const auto test = [&](const char* kind, const engine::ShapeModel& model, const ShapeEvalConfig& c, std::size_t i) {
+    for (const auto& t : TestScans(meshes[i], c, i)) {
+      const auto v = engine::Verify(model, t.points);
+      std::vector<double> weights;
+      for (const auto& s : v.scores) weights.push_back(s.weight);
+      out << nlohmann::json{{"kind", kind}, {"seed", c.seed}, {"category", t.category}, {"mesh", meshes[i].name},
+                            {"best", v.best}, {"keypoints", v.keypoints}, {"weights", weights}, {"size", SizeFigures(t.points)}}
+          << "\n" << std::flush;
+    }
+  };
+  ShapeEvalConfig c = config;
+  if (leave_one_out) {  // seeds[0]: per mesh of a category with several, the model trained on every other mesh
+    std::map<std::string, int> per_category;
+    for (const auto& m : meshes) ++per_category[m.category];
+    c.seed = seeds.at(0);
+    int held_out = -1;
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+      if (per_category[meshes[i].category] < 2) continue;
+      ++held_out;
+      if (held_out < config.loo_first || (config.loo_count >= 0 && held_out >= config.loo_first + config.loo_count)) continue;
+      test("loo", engine::TrainShapeModel(TrainingScans(meshes, meshes[i].name, config.train_noise), config.params), c, i);
+    }
+    return;
+  }
+  const engine::ShapeModel model = engine::TrainShapeModel(TrainingScans(meshes, "", config.train_noise), config.params);
+  for (const std::uint64_t seed : seeds) {
+    c.seed = seed;
+    for (std::size_t i = 0; i < meshes.size(); ++i) test("test", model, c, i);
+  }
+  nlohmann::json cats;
+  for (const auto& category : model.categories) cats.push_back(category.name);
+  out << nlohmann::json{{"kind", "categories"}, {"categories", cats}} << "\n";
+}
 
 int Confusion::Total() const {
   int n = 0;
@@ -367,8 +416,12 @@ DatasetResult EvaluateFurnitureLeaveOneMeshOut(const ShapeEvalConfig& config) {
   total.pcl.confusion = NewConfusion(categories);
   std::map<std::string, int> per_category;
   for (const auto& m : meshes) ++per_category[m.category];
+  int held_out = -1;
   for (std::size_t i = 0; i < meshes.size(); ++i) {
     if (per_category[meshes[i].category] < 2) continue;
+    ++held_out;
+    if (held_out < config.loo_first || (config.loo_count >= 0 && held_out >= config.loo_first + config.loo_count)) continue;
+    std::fprintf(stderr, "leave-one-mesh-out %d: %s\n", held_out, meshes[i].name.c_str());
     Run(total.name, TrainingScans(meshes, meshes[i].name, config.train_noise), TestScans(meshes[i], config, i), categories, config, &total);
   }
   return total;

@@ -9,6 +9,7 @@
 //      and distances) with the sim's Kinect noise (sim/sensor_artefacts.h), partial views and clutter (a floor
 //      patch and a box beside the piece). Leave-one-mesh-out for the categories with several meshes.
 #include <cstdint>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,10 @@ struct ShapeEvalConfig {
   int variants_per_test_cloud = 8;  // (a)
   int test_views_per_mesh = 6;      // (b): per mesh
   std::vector<std::string> categories;  // (b): empty = all
+  // (b) leave-one-mesh-out: only the held-out meshes [loo_first, loo_first + loo_count) of those in categories with
+  // several meshes (sorted by category and name; -1: all), so that a long run can be split.
+  int loo_first = 0;
+  int loo_count = -1;
   std::uint64_t seed = 16;
 };
 
@@ -65,6 +70,13 @@ DatasetResult EvaluateFurnitureLeaveOneMeshOut(const ShapeEvalConfig& config);
 // Whether the shared data of (a) / (b) is present.
 bool PclTestPairPresent();
 bool FurnitureMeshesPresent();
+
+// Tuning aid: trains once on the furniture scans, then writes one JSON line per training cloud (its size figures)
+// and per test cloud of each seed (truth, per-category sphere weights, keypoints, size figures).
+// With `leave_one_out`: per mesh of a category with several, the model trained without it on that mesh's test views
+// of seeds[0].
+void DumpFurnitureViews(const ShapeEvalConfig& config, const std::vector<std::uint64_t>& seeds, std::ostream& out,
+                        bool leave_one_out = false);
 
 std::string ResultTable(const DatasetResult& r);  // Markdown: accuracy per category, ours beside PCL, confusion
 std::string ResultJson(const DatasetResult& r);
