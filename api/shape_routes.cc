@@ -42,8 +42,9 @@ void RegisterShapeRoutes(Router& router, ShapeService& s) {
         return JsonResponse({{"deleted", p["name"]}});
       });
   router.Add("POST", "/v1/shape-models/{name}:classify", Role::kReader,
-      "Verification mode: the category distribution p(f) of one segment (PCD or PLY body, metres) from the rays "
-      "through one sphere at its centroid",
+      "Verification mode: the category distribution p(f) of one segment (PCD or PLY body, metres, z up) from the "
+      "rays through one sphere at its centroid, weighted by how likely its size (height along z; length and width) "
+      "is for each category's training clouds",
       [&s](Req req, const PathParams& p) { return JsonResponse(ToJson(s.Classify(p["name"], req.body))); });
   router.Add("POST", "/v1/shape-models/{name}:detect", Role::kReader,
       "Detection mode: furniture in a scene cloud (PCD or PLY body, metres): spheres >= 75 % of the global maximum, "
