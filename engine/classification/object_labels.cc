@@ -14,6 +14,11 @@ const char* LabelSourceName(LabelSource source) {
   return "none";
 }
 
+std::optional<std::string> ShownClassifierClass(const EffectiveLabels& labels) {
+  if (labels.source != LabelSource::kClassifier || labels.distribution.empty()) return std::nullopt;
+  return TopLabel(labels.distribution);
+}
+
 bool ClassifierLabelApplies(const LabelWeights& named, bool label_locked) {
   if (label_locked) return false;
   for (const auto& [label, weight] : named) {

@@ -33,6 +33,10 @@ EffectiveLabels EffectiveObjectLabels(const LabelWeights& named, bool label_lock
 // Whether a classification of the instance would be its label (false when dialog or an operator named it).
 bool ClassifierLabelApplies(const LabelWeights& named, bool label_locked);
 
+// The class an instance shows when its labels are a classifier's (their most probable class, TopLabel); nullopt for
+// a person's label or none. A classification whose shown class changes is a 'labelled' event.
+std::optional<std::string> ShownClassifierClass(const EffectiveLabels& labels);
+
 // The points of `cloud_m` inside the axis-aligned box [min_m - margin_m, max_m + margin_m] (a segment's bounds).
 // A negative margin or an inverted box gives none.
 std::vector<Eigen::Vector3f> PointsInBox(const std::vector<Eigen::Vector3f>& cloud_m, const Eigen::Vector3d& min_m,

@@ -193,32 +193,16 @@ InstanceClassificationResult ClassifierService::ClassifyInstance(const ClassifyI
     result.applied = engine::ClassifierLabelApplies(named, r.label_locked);
     result.label_source = engine::LabelSourceName(effective.source);
     result.labels = effective.distribution;
-    // An event when the label the instance shows changed its most probable class: only a classifier's label (not
-    // the rejection class 'unknown', which is never shown), compared with what the previous classification showed.
-    const auto shown = [&](const engine::EffectiveLabels& labels) -> std::optional<std::string> {
-      if (labels.source != engine::LabelSource::kClassifier || labels.distribution.empty()) return std::nullopt;
-      return std::max_element(labels.distribution.begin(), labels.distribution.end(),
-                              [](const auto& a, const auto& b) { return a.second < b.second; })->first;
-    };
-    const std::optional<std::string> now_shown = shown(effective);
-    const std::optional<std::string> before_shown =
-        before ? shown(engine::EffectiveObjectLabels(named, r.label_locked,
-                                                     nlohmann::json::parse(before->distribution_json).get<engine::LabelWeights>()))
+    // An event when the class the instance shows (a classifier's label, never 'unknown') differs from the one the
+    // previous classification showed.
+    const std::optional<std::string> shown = engine::ShownClassifierClass(effective);
+    const std::optional<std::string> shown_before =
+        before ? engine::ShownClassifierClass(engine::EffectiveObjectLabels(
+                     named, r.label_locked, nlohmann::json::parse(before->distribution_json).get<engine::LabelWeights>()))
                : std::nullopt;
-    if (now_shown && now_shown != before_shown) {
-      storage::EventRecord e;
-      e.map_id = request.map;
-      e.type = "labelled";
-      e.detection = "classifier";
-      e.stamp_ns = row.stamp_ns;
-      e.created_ns = row.stamp_ns;
-      e.instance_id = request.instance;
-      e.label = *now_shown;
-      e.explanation = engine::ClassifiedExplanation(request.classifier);
-      EventDetails details;
-      details.labels = effective.distribution;
-      e.details_json = EncodeEventDetails(details);
-      result.event = storage::InsertEvent(c, e);
+    if (shown && shown != shown_before) {
+      result.event = InsertLabelledEvent(c, request.map, request.instance, *shown, "classifier", row.stamp_ns,
+                                         engine::ClassifiedExplanation(request.classifier), effective.distribution);
     }
   });
   return result;

@@ -2,6 +2,7 @@
 #include "services/events/event_details.h"
 
 #include "schema/json_io.h"
+#include "storage/event_repository.h"
 
 namespace anchordb::services {
 
@@ -54,6 +55,24 @@ EventDetails DecodeEventDetails(const std::string& details_json) {
   if (j.contains("background_scene")) d.background_scene = j["background_scene"].get<std::int64_t>();
   if (j.contains("labels")) d.labels = j["labels"].get<engine::LabelWeights>();
   return d;
+}
+
+std::int64_t InsertLabelledEvent(storage::Connection& c, const std::string& map, std::int64_t instance,
+                                 const std::string& label, const std::string& detection, std::int64_t stamp_ns,
+                                 const std::string& explanation, const engine::LabelWeights& distribution) {
+  storage::EventRecord e;
+  e.map_id = map;
+  e.type = "labelled";
+  e.detection = detection;
+  e.stamp_ns = stamp_ns;
+  e.created_ns = stamp_ns;
+  e.instance_id = instance;
+  e.label = label;
+  e.explanation = explanation;
+  EventDetails details;
+  details.labels = distribution;
+  e.details_json = EncodeEventDetails(details);
+  return storage::InsertEvent(c, e);
 }
 
 }  // namespace anchordb::services

@@ -10,6 +10,7 @@
 #include "engine/events/where.h"
 #include "schema/error.h"
 #include "schema/json_io.h"
+#include "services/events/event_details.h"
 #include "services/events/event_records_internal.h"
 #include "services/events/event_service.h"
 #include "services/furniture/furniture_service.h"
@@ -73,20 +74,9 @@ LabelResult EventService::LabelInstance(const std::string& map, std::int64_t id,
     r.labels_json = EncodeLabels(weights);
     r.updated_ns = clock_.NowNs();
     storage::UpdateInstance(c, r);
-    storage::EventRecord e;
-    e.map_id = map;
-    e.type = "labelled";
-    e.detection = from_operator ? "operator" : "dialog";
-    e.stamp_ns = r.updated_ns;
-    e.instance_id = id;
-    e.label = label;
-    e.created_ns = r.updated_ns;
-    e.explanation = engine::LabelledExplanation(from_operator);
-    EventDetails details;
-    details.labels = engine::LabelDistribution(weights);
-    e.details_json = EncodeEventDetails(details);
-    e.id = storage::InsertEvent(c, e);
-    return LabelResult{ViewOf(c, r), ToView(*storage::FindEvent(c, map, e.id)), std::nullopt};
+    const std::int64_t event = InsertLabelledEvent(c, map, id, label, from_operator ? "operator" : "dialog", r.updated_ns,
+                                                   engine::LabelledExplanation(from_operator), engine::LabelDistribution(weights));
+    return LabelResult{ViewOf(c, r), ToView(*storage::FindEvent(c, map, event)), std::nullopt};
   });
 }
 
