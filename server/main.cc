@@ -249,7 +249,8 @@ int Forget(const std::vector<std::string>& args) {
   }
   const storage::StoreOptions options = StoreOptionsOf(config.server);
   storage::Store store(options);  // migrates the file first
-  storage::Connection connection(config.server.db, options.connection);
+  const std::unique_ptr<storage::Connection> owned_connection = storage::OpenConnection(config.server.db, options.connection);
+  storage::Connection& connection = *owned_connection;
   const std::int64_t now_ns = request.now_ns.value_or(SystemClock::Instance().NowNs());
   storage::ForgetReport report;
   try {

@@ -11,13 +11,12 @@ void BindOptionalText(Statement& s, int index, const std::optional<std::string>&
 std::int64_t InsertAuditRecord(Connection& c, const AuditRecord& r) {
   Statement s(c,
               "INSERT INTO audit_log (time_ns, actor, role, action, map_id, resource, request_id, status, before_json, "
-              "after_json) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+              "after_json) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING id");
   s.Bind(1, r.time_ns).Bind(2, r.actor).Bind(3, r.role).Bind(4, r.action).Bind(5, r.map).Bind(6, r.resource);
   s.Bind(7, r.request_id).Bind(8, static_cast<std::int64_t>(r.status));
   BindOptionalText(s, 9, r.before_json);
   BindOptionalText(s, 10, r.after_json);
-  s.Run();
-  return sqlite3_last_insert_rowid(c.handle());
+  return s.RunReturningId();
 }
 
 bool UpdateAuditOutcome(Connection& c, std::int64_t id, int status, const std::optional<std::string>& after_json) {
@@ -25,7 +24,7 @@ bool UpdateAuditOutcome(Connection& c, std::int64_t id, int status, const std::o
   s.Bind(1, static_cast<std::int64_t>(status));
   BindOptionalText(s, 2, after_json);
   s.Bind(3, id).Run();
-  return sqlite3_changes(c.handle()) > 0;
+  return c.Changes() > 0;
 }
 
 std::vector<AuditRecord> ListAuditRecords(Connection& c, const AuditFilter& f) {

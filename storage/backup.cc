@@ -75,7 +75,7 @@ BackupReport Backup(const std::string& source_path, const std::string& dest_path
   ConnectionOptions source_options;
   source_options.read_only = true;
   source_options.busy_timeout_ms = busy_timeout_ms;
-  Connection source(source_path, source_options);
+  SqliteConnection source(source_path, source_options);
 
   PartialFile partial{dest_path + ".partial"};
   fs::remove(partial.path, ec);  // left by an earlier crash

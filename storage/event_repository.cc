@@ -65,11 +65,11 @@ void LoadEvidence(Connection& c, EventRecord& e) {
 
 std::int64_t InsertSegment(Connection& c, const SegmentRecord& r) {
   Statement s(c, "INSERT INTO segments (map_id, keyframe_id, x_m, y_m, z_m, min_x_m, min_y_m, min_z_m, max_x_m, max_y_m, "
-                 "max_z_m, points, sample) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+                 "max_z_m, points, sample) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING id");
   s.Bind(1, r.map_id).Bind(2, r.keyframe_id);
   for (int k = 0; k < 3; ++k) s.Bind(3 + k, r.centroid[k]).Bind(6 + k, r.min[k]).Bind(9 + k, r.max[k]);
-  s.Bind(12, r.points).BindBlob(13, r.sample).Run();
-  return sqlite3_last_insert_rowid(c.handle());
+  s.Bind(12, r.points).BindBlob(13, r.sample);
+  return s.RunReturningId();
 }
 
 std::optional<SegmentRecord> FindSegment(Connection& c, std::int64_t id) {
@@ -89,7 +89,7 @@ std::optional<SegmentRecord> FindSegment(Connection& c, std::int64_t id) {
 std::int64_t InsertInstance(Connection& c, const InstanceRecord& r) {
   Statement s(c, "INSERT INTO instances (map_id, kind, status, labels, label_locked, status_locked, pinned, x_m, y_m, z_m, "
                  "extent_x_m, extent_y_m, extent_z_m, yaw_rad, last_seen_ns, last_scene_id, created_ns, updated_ns, sample) "
-                 "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+                 "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING id");
   s.Bind(1, r.map_id).Bind(2, r.kind).Bind(3, r.status).Bind(4, r.labels_json)
       .Bind(5, static_cast<std::int64_t>(r.label_locked)).Bind(6, static_cast<std::int64_t>(r.status_locked))
       .Bind(7, static_cast<std::int64_t>(r.pinned));
@@ -98,8 +98,7 @@ std::int64_t InsertInstance(Connection& c, const InstanceRecord& r) {
   BindOptional(s, 16, r.last_scene_id);
   s.Bind(17, r.created_ns).Bind(18, r.updated_ns);
   if (r.sample.empty()) s.BindNull(19); else s.BindBlob(19, r.sample);
-  s.Run();
-  return sqlite3_last_insert_rowid(c.handle());
+  return s.RunReturningId();
 }
 
 void UpdateInstance(Connection& c, const InstanceRecord& r) {
@@ -195,15 +194,15 @@ std::optional<HistoryRecord> HistoryAt(Connection& c, std::int64_t instance_id, 
 
 std::int64_t InsertEvent(Connection& c, const EventRecord& e) {
   Statement s(c, "INSERT INTO events (map_id, type, detection, stamp_ns, scene_id, action_layer, instance_id, segment_id, "
-                 "label, explanation, details, pinned, created_ns) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+                 "label, explanation, details, pinned, created_ns) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING id");
   s.Bind(1, e.map_id).Bind(2, e.type).Bind(3, e.detection).Bind(4, e.stamp_ns);
   BindOptional(s, 5, e.scene_id);
   BindOptional(s, 6, e.action_layer);
   BindOptional(s, 7, e.instance_id);
   BindOptional(s, 8, e.segment_id);
   if (e.label) s.Bind(9, *e.label); else s.BindNull(9);
-  s.Bind(10, e.explanation).Bind(11, e.details_json).Bind(12, static_cast<std::int64_t>(e.pinned)).Bind(13, e.created_ns).Run();
-  const std::int64_t id = sqlite3_last_insert_rowid(c.handle());
+  s.Bind(10, e.explanation).Bind(11, e.details_json).Bind(12, static_cast<std::int64_t>(e.pinned)).Bind(13, e.created_ns);
+  const std::int64_t id = s.RunReturningId();
   for (const auto& ev : e.evidence) {
     Statement(c, "INSERT OR IGNORE INTO event_evidence (event_id, keyframe_id, role) VALUES (?, ?, ?)")
         .Bind(1, id).Bind(2, ev.keyframe_id).Bind(3, ev.role).Run();

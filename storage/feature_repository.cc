@@ -42,15 +42,14 @@ FeatureRecord ReadFeature(const Statement& s, bool descriptors) {
 
 std::int64_t InsertFeature(Connection& c, const FeatureRecord& f) {
   Statement s(c, "INSERT INTO features (map_id, type, dims, descriptor, x_m, y_m, z_m, keyframe_id, stamp_ns, codeword) "
-                 "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+                 "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING id");
   s.Bind(1, f.map).Bind(2, f.type).Bind(3, static_cast<std::int64_t>(f.descriptor.size()));
   s.BindBlob(4, EncodeFloats(f.descriptor, 1));
   s.Bind(5, f.anchor_m.x()).Bind(6, f.anchor_m.y()).Bind(7, f.anchor_m.z());
   BindOptional(s, 8, f.keyframe);
   s.Bind(9, f.stamp_ns);
   BindOptional(s, 10, f.codeword ? std::optional<std::int64_t>(*f.codeword) : std::nullopt);
-  s.Run();
-  return sqlite3_last_insert_rowid(c.handle());
+  return s.RunReturningId();
 }
 
 std::vector<FeatureRecord> ListFeatures(Connection& c, const std::string& map, const FeatureFilter& q) {

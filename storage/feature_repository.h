@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-#include "storage/sqlite.h"
+#include "storage/connection.h"
 
 namespace anchordb::storage {
 

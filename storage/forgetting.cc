@@ -7,6 +7,7 @@
 
 #include "schema/error.h"
 #include "storage/repositories.h"
+#include "storage/sqlite.h"
 
 namespace anchordb::storage {
 namespace {
@@ -201,7 +202,7 @@ void DeduplicateFeatures(Connection& c, ForgetReport& r) {
 }
 
 std::string MainFile(Connection& c) {
-  const char* name = sqlite3_db_filename(c.handle(), "main");
+  const char* name = sqlite3_db_filename(SqliteOf(c).handle(), "main");
   return name ? std::string(name) : std::string();
 }
 
@@ -305,7 +306,7 @@ std::int64_t DatabaseFileBytes(const std::string& path) {
 
 ForgetReport Forget(Connection& c, const std::string& map_id, const ForgetPolicy& policy, std::int64_t now_ns,
                     bool dry_run, const ForgetProgress& progress, const ForgetBeforeCommit& before_commit) {
-  if (!sqlite3_get_autocommit(c.handle())) {
+  if (c.InTransaction()) {
     throw Error(ErrorCode::kInternal, "Forget needs a connection outside any transaction");
   }
   const auto start = std::chrono::steady_clock::now();

@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "storage/forget_policy.h"
-#include "storage/sqlite.h"
+#include "storage/connection.h"
 
 namespace anchordb::storage {
 

@@ -28,10 +28,10 @@ FurnitureGraphRecord ReadGraph(const Statement& s, bool with_hypotheses) {
 
 std::int64_t InsertFurnitureGraph(Connection& c, const FurnitureGraphRecord& r) {
   Statement s(c, "INSERT INTO furniture_graphs (map_id, viewpoint, params, knowledge, graph, created_ns, updated_ns, "
-                 "descriptions, state_version, hypotheses) VALUES (?, ?, ?, ?, ?, ?, ?, ?, 0, ?)");
+                 "descriptions, state_version, hypotheses) VALUES (?, ?, ?, ?, ?, ?, ?, ?, 0, ?) RETURNING id");
   s.Bind(1, r.map_id).Bind(2, r.viewpoint_json).Bind(3, r.params_json).Bind(4, r.knowledge_json).Bind(5, r.graph_json)
-      .Bind(6, r.created_ns).Bind(7, r.updated_ns).Bind(8, r.descriptions).BindBlob(9, r.hypotheses).Run();
-  return sqlite3_last_insert_rowid(c.handle());
+      .Bind(6, r.created_ns).Bind(7, r.updated_ns).Bind(8, r.descriptions).BindBlob(9, r.hypotheses);
+  return s.RunReturningId();
 }
 
 std::optional<FurnitureGraphRecord> FindFurnitureGraph(Connection& c, const std::string& map_id, std::int64_t id,

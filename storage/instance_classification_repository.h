@@ -6,7 +6,7 @@
 #include <string>
 
 #include "storage/event_repository.h"
-#include "storage/sqlite.h"
+#include "storage/connection.h"
 
 namespace anchordb::storage {
 

@@ -5,12 +5,12 @@ namespace anchordb::storage {
 std::int64_t InsertJob(Connection& c, const std::string& kind, const std::optional<std::string>& map_id,
                        const std::string& request_json, std::int64_t now_ns) {
   Statement s(c, "INSERT INTO jobs (kind, map_id, status, stage, progress, request, created_ns, updated_ns) "
-                 "VALUES (?, ?, 'queued', '', 0, ?, ?, ?)");
+                 "VALUES (?, ?, 'queued', '', 0, ?, ?, ?) RETURNING id");
   s.Bind(1, kind);
   if (map_id) s.Bind(2, *map_id);
   else s.BindNull(2);
-  s.Bind(3, request_json).Bind(4, now_ns).Bind(5, now_ns).Run();
-  return sqlite3_last_insert_rowid(c.handle());
+  s.Bind(3, request_json).Bind(4, now_ns).Bind(5, now_ns);
+  return s.RunReturningId();
 }
 
 namespace {

@@ -43,7 +43,7 @@ MigrationReport ApplyMigrations(Connection& connection, const std::vector<Migrat
     std::int64_t orphans_before = 0;
     if (foreign_keys_off) {
       // Inside a transaction the PRAGMA would be ignored without an error, and the rebuild would cascade.
-      if (!sqlite3_get_autocommit(connection.handle())) {
+      if (connection.InTransaction()) {
         throw Error(ErrorCode::kInternal, std::string("migration ") + m.name + " needs foreign keys off, but a transaction is open");
       }
       connection.Exec("PRAGMA foreign_keys = OFF");

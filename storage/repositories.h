@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "schema/types.h"
-#include "storage/sqlite.h"
+#include "storage/connection.h"
 
 namespace anchordb::storage {
 

@@ -41,13 +41,12 @@ SceneRecord ReadScene(Statement& s, bool with_state) {
 
 std::int64_t InsertScene(Connection& c, const SceneRecord& r) {
   Statement s(c, "INSERT INTO scene_models (map_id, status, intrinsics, pose, x_m, y_m, z_m, params, merge_report, "
-                 "started_ns, pose_covariance) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+                 "started_ns, pose_covariance) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING id");
   s.Bind(1, r.map_id).Bind(2, r.status).Bind(3, r.intrinsics_json).Bind(4, r.pose_json).Bind(5, r.x_m).Bind(6, r.y_m)
       .Bind(7, r.z_m).Bind(8, r.params_json).Bind(9, r.merge_report_json).Bind(10, r.started_ns);
   if (r.pose_covariance_json.empty()) s.BindNull(11);
   else s.Bind(11, r.pose_covariance_json);
-  s.Run();
-  return sqlite3_last_insert_rowid(c.handle());
+  return s.RunReturningId();
 }
 
 std::optional<SceneRecord> FindScene(Connection& c, const std::string& map_id, std::int64_t id, bool with_state) {
@@ -101,11 +100,11 @@ void UpdateSceneStatus(Connection& c, std::int64_t id, const std::string& status
 
 std::int64_t InsertKeyframe(Connection& c, const KeyframeRecord& k) {
   Statement s(c, "INSERT INTO keyframes (map_id, scene_id, kind, stamp_ns, width, height, depth, background, raw_bytes, "
-                 "stored_bytes, pinned, action_layer) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+                 "stored_bytes, pinned, action_layer) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING id");
   s.Bind(1, k.map_id).Bind(2, k.scene_id).Bind(3, k.kind).Bind(4, k.stamp_ns).Bind(5, static_cast<std::int64_t>(k.width))
       .Bind(6, static_cast<std::int64_t>(k.height)).BindBlob(7, k.depth).BindBlob(8, k.background).Bind(9, k.raw_bytes)
-      .Bind(10, k.stored_bytes).Bind(11, static_cast<std::int64_t>(k.pinned)).Bind(12, k.action_layer).Run();
-  return sqlite3_last_insert_rowid(c.handle());
+      .Bind(10, k.stored_bytes).Bind(11, static_cast<std::int64_t>(k.pinned)).Bind(12, k.action_layer);
+  return s.RunReturningId();
 }
 
 namespace {

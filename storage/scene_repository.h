@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "storage/repositories.h"
-#include "storage/sqlite.h"
+#include "storage/connection.h"
 
 namespace anchordb::storage {
 

@@ -39,7 +39,54 @@ void ConfigureSqliteOnce() {
 }
 }  // namespace
 
-Connection::Connection(const std::string& path, const ConnectionOptions& options) {
+namespace {
+// One prepared statement of a SQLite connection.
+class SqliteCursor final : public Cursor {
+ public:
+  SqliteCursor(sqlite3* db, sqlite3_stmt* stmt) : db_(db), stmt_(stmt) {}
+  ~SqliteCursor() override { sqlite3_finalize(stmt_); }
+  sqlite3_stmt* stmt() const { return stmt_; }
+
+  void BindInt(int i, std::int64_t v) override { Check(sqlite3_bind_int64(stmt_, i, v)); }
+  void BindDouble(int i, double v) override { Check(sqlite3_bind_double(stmt_, i, v)); }
+  void BindText(int i, std::string_view t) override {
+    Check(sqlite3_bind_text64(stmt_, i, t.data(), t.size(), SQLITE_TRANSIENT, SQLITE_UTF8));
+  }
+  void BindBlob(int i, std::string_view b) override { Check(sqlite3_bind_blob64(stmt_, i, b.data(), b.size(), SQLITE_TRANSIENT)); }
+  void BindNull(int i) override { Check(sqlite3_bind_null(stmt_, i)); }
+
+  bool Step() override {
+    const int rc = sqlite3_step(stmt_);
+    if (rc == SQLITE_ROW) return true;
+    if (rc == SQLITE_DONE) return false;
+    ThrowSqliteError(db_, rc, "step");
+  }
+
+  std::int64_t Int(int c) const override { return sqlite3_column_int64(stmt_, c); }
+  double Double(int c) const override { return sqlite3_column_double(stmt_, c); }
+  // A NULL pointer is an SQL NULL, an empty value, or a failed conversion (out of memory): only the last is an error.
+  std::string Text(int c) const override {
+    const auto* p = sqlite3_column_text(stmt_, c);
+    if (!p && sqlite3_errcode(db_) == SQLITE_NOMEM) ThrowSqliteError(db_, SQLITE_NOMEM, "column");
+    return p ? std::string(reinterpret_cast<const char*>(p), sqlite3_column_bytes(stmt_, c)) : std::string();
+  }
+  std::string Blob(int c) const override {
+    const void* p = sqlite3_column_blob(stmt_, c);
+    if (!p && sqlite3_errcode(db_) == SQLITE_NOMEM) ThrowSqliteError(db_, SQLITE_NOMEM, "column");
+    return p ? std::string(static_cast<const char*>(p), sqlite3_column_bytes(stmt_, c)) : std::string();
+  }
+  bool IsNull(int c) const override { return sqlite3_column_type(stmt_, c) == SQLITE_NULL; }
+
+ private:
+  void Check(int rc) const {
+    if (rc != SQLITE_OK) ThrowSqliteError(db_, rc, "bind");
+  }
+  sqlite3* db_;
+  sqlite3_stmt* stmt_;
+};
+}  // namespace
+
+SqliteConnection::SqliteConnection(const std::string& path, const ConnectionOptions& options) {
   ConfigureSqliteOnce();
   const int flags = (options.read_only ? SQLITE_OPEN_READONLY : (SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE)) |
                     SQLITE_OPEN_NOMUTEX;
@@ -66,35 +113,44 @@ Connection::Connection(const std::string& path, const ConnectionOptions& options
   }
 }
 
-void Connection::EndStuckTransaction() {
+void SqliteConnection::EndStuckTransaction() {
   if (sqlite3_get_autocommit(db_)) return;
   char* err = nullptr;
   sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, &err);
   sqlite3_free(err);
 }
 
-Connection::~Connection() {
-  for (auto& [sql, stmt] : statement_cache_) sqlite3_finalize(stmt);
+SqliteConnection::~SqliteConnection() {
+  statement_cache_.clear();  // finalizes every cached statement before the close
   sqlite3_close_v2(db_);
 }
 
-sqlite3_stmt* Connection::TakeCached(std::string_view sql) const {
+std::unique_ptr<Cursor> SqliteConnection::Acquire(std::string_view sql) const {
   auto it = statement_cache_.find(std::string(sql));
-  if (it == statement_cache_.end()) return nullptr;
-  sqlite3_stmt* stmt = it->second;
-  statement_cache_.erase(it);
-  return stmt;
+  if (it != statement_cache_.end()) {
+    std::unique_ptr<Cursor> cursor = std::move(it->second);
+    statement_cache_.erase(it);
+    return cursor;
+  }
+  sqlite3_stmt* stmt = nullptr;
+  const int rc = sqlite3_prepare_v3(db_, sql.data(), static_cast<int>(sql.size()), SQLITE_PREPARE_PERSISTENT, &stmt, nullptr);
+  if (rc != SQLITE_OK) {
+    sqlite3_finalize(stmt);
+    ThrowSqliteError(db_, rc, "prepare");
+  }
+  return std::make_unique<SqliteCursor>(db_, stmt);
 }
 
-void Connection::ReturnToCache(sqlite3_stmt* stmt) const {
+void SqliteConnection::Release(std::unique_ptr<Cursor> cursor) const {
   constexpr std::size_t kMaxCached = 256;
+  sqlite3_stmt* stmt = static_cast<SqliteCursor*>(cursor.get())->stmt();
   sqlite3_reset(stmt);
   sqlite3_clear_bindings(stmt);
   const char* sql = sqlite3_sql(stmt);
-  if (!sql || statement_cache_.size() >= kMaxCached || !statement_cache_.emplace(sql, stmt).second) sqlite3_finalize(stmt);
+  if (sql && statement_cache_.size() < kMaxCached) statement_cache_.try_emplace(sql, std::move(cursor));
 }
 
-void Connection::Exec(std::string_view sql) {
+void SqliteConnection::Exec(std::string_view sql) {
   char* err = nullptr;
   const int rc = sqlite3_exec(db_, std::string(sql).c_str(), nullptr, nullptr, &err);
   if (rc != SQLITE_OK) {
@@ -104,102 +160,14 @@ void Connection::Exec(std::string_view sql) {
   }
 }
 
-Statement::Statement(const Connection& connection, std::string_view sql)
-    : connection_(connection), db_(connection.handle()), stmt_(connection.TakeCached(sql)) {
-  if (stmt_) return;
-  const int rc = sqlite3_prepare_v3(db_, sql.data(), static_cast<int>(sql.size()), SQLITE_PREPARE_PERSISTENT, &stmt_, nullptr);
-  if (rc != SQLITE_OK) {
-    sqlite3_finalize(stmt_);
-    stmt_ = nullptr;
-    ThrowSqliteError(db_, rc, "prepare");
-  }
-}
+// BEGIN and ROLLBACK of a snapshot as cached statements: readers open one per request.
+void SqliteConnection::BeginRead() { Statement(*this, "BEGIN").Run(); }
+void SqliteConnection::EndRead() { Statement(*this, "ROLLBACK").Run(); }
 
-Statement::~Statement() {
-  if (stmt_) connection_.ReturnToCache(stmt_);
-}
-
-Statement& Statement::Bind(int i, std::int64_t v) {
-  if (int rc = sqlite3_bind_int64(stmt_, i, v); rc != SQLITE_OK) ThrowSqliteError(db_, rc, "bind");
-  return *this;
-}
-Statement& Statement::Bind(int i, double v) {
-  if (int rc = sqlite3_bind_double(stmt_, i, v); rc != SQLITE_OK) ThrowSqliteError(db_, rc, "bind");
-  return *this;
-}
-Statement& Statement::Bind(int i, std::string_view t) {
-  if (int rc = sqlite3_bind_text64(stmt_, i, t.data(), t.size(), SQLITE_TRANSIENT, SQLITE_UTF8); rc != SQLITE_OK) {
-    ThrowSqliteError(db_, rc, "bind");
-  }
-  return *this;
-}
-Statement& Statement::BindBlob(int i, std::string_view b) {
-  if (int rc = sqlite3_bind_blob64(stmt_, i, b.data(), b.size(), SQLITE_TRANSIENT); rc != SQLITE_OK) {
-    ThrowSqliteError(db_, rc, "bind");
-  }
-  return *this;
-}
-Statement& Statement::BindNull(int i) {
-  if (int rc = sqlite3_bind_null(stmt_, i); rc != SQLITE_OK) ThrowSqliteError(db_, rc, "bind");
-  return *this;
-}
-
-bool Statement::Step() {
-  const int rc = sqlite3_step(stmt_);
-  if (rc == SQLITE_ROW) return true;
-  if (rc == SQLITE_DONE) return false;
-  ThrowSqliteError(db_, rc, "step");
-}
-
-void Statement::Run() {
-  while (Step()) {
-  }
-}
-
-// A NULL pointer is an SQL NULL, an empty value, or a failed conversion (out of memory): only the last is an error.
-std::string Statement::Text(int c) const {
-  const auto* p = sqlite3_column_text(stmt_, c);
-  if (!p && sqlite3_errcode(db_) == SQLITE_NOMEM) ThrowSqliteError(db_, SQLITE_NOMEM, "column");
-  return p ? std::string(reinterpret_cast<const char*>(p), sqlite3_column_bytes(stmt_, c)) : std::string();
-}
-
-std::string Statement::Blob(int c) const {
-  const void* p = sqlite3_column_blob(stmt_, c);
-  if (!p && sqlite3_errcode(db_) == SQLITE_NOMEM) ThrowSqliteError(db_, SQLITE_NOMEM, "column");
-  return p ? std::string(static_cast<const char*>(p), sqlite3_column_bytes(stmt_, c)) : std::string();
-}
-
-ReadTransaction::ReadTransaction(Connection& connection) : connection_(connection) {
-  connection_.EndStuckTransaction();  // an earlier snapshot whose end failed (out of memory) must not stay open
-  Statement(connection_, "BEGIN").Run();
-}
-
-ReadTransaction::~ReadTransaction() {
-  try {
-    Statement(connection_, "ROLLBACK").Run();
-  } catch (...) {
-    // Ending a read transaction cannot lose anything; a failure leaves SQLite to end it at the next BEGIN or close.
-  }
-}
-
-Transaction::Transaction(Connection& connection) : connection_(connection) {
-  connection_.EndStuckTransaction();  // a failed write whose rollback failed too must not stay open
-  connection_.Exec("BEGIN IMMEDIATE");
-}
-
-Transaction::~Transaction() {
-  if (!done_) {
-    try {
-      connection_.Exec("ROLLBACK");
-    } catch (...) {
-      // A failed rollback leaves SQLite to roll back on close; nothing more can be done in a destructor.
-    }
-  }
-}
-
-void Transaction::Commit() {
-  connection_.Exec("COMMIT");
-  done_ = true;
+SqliteConnection& SqliteOf(Connection& c) {
+  auto* sqlite = dynamic_cast<SqliteConnection*>(&c);
+  if (!sqlite) throw Error(ErrorCode::kInternal, "this operation needs a SQLite database");
+  return *sqlite;
 }
 
 }  // namespace anchordb::storage

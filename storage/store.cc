@@ -1,5 +1,8 @@
 #include "storage/store.h"
 
+#include "schema/error.h"
+#include "storage/postgres.h"
+
 namespace anchordb::storage {
 
 namespace {
@@ -16,12 +19,18 @@ void RunBeforeCommitHook(Connection& connection) {
 }
 
 Store::Store(const StoreOptions& options) : options_(options) {
-  writer_ = std::make_unique<Connection>(options_.path, options_.connection);
+  if (IsPostgresUri(options_.path)) {
+    // The engine's connections work (storage/postgres.h), but the migrations exist for SQLite only so far.
+    throw Error(ErrorCode::kInvalidArgument,
+                "a PostgreSQL database cannot hold a whole anchordb memory yet (its schema migrations are not written); "
+                "use a SQLite file path");
+  }
+  writer_ = OpenConnection(options_.path, options_.connection);
   migration_report_ = ApplyMigrations(*writer_, EmbeddedMigrations());
   ConnectionOptions reader_options = options_.connection;
   reader_options.read_only = true;
   for (int i = 0; i < std::max(1, options_.reader_connections); ++i) {
-    readers_.push_back(std::make_unique<Connection>(options_.path, reader_options));
+    readers_.push_back(OpenConnection(options_.path, reader_options));
     idle_readers_.push_back(readers_.back().get());
   }
 }
@@ -34,8 +43,8 @@ Store::~Store() {
 
 Connection& Store::UsableWriter() {
   writer_->EndStuckTransaction();
-  if (!sqlite3_get_autocommit(writer_->handle())) {
-    writer_ = std::make_unique<Connection>(options_.path, options_.connection);  // throws: the old one is kept
+  if (writer_->InTransaction()) {
+    writer_ = OpenConnection(options_.path, options_.connection);  // throws: the old one is kept
   }
   return *writer_;
 }

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "storage/migrations.h"
-#include "storage/sqlite.h"
+#include "storage/connection.h"
 
 namespace anchordb::storage {
 

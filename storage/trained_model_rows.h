@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "storage/blob_codec.h"
-#include "storage/sqlite.h"
+#include "storage/connection.h"
 
 namespace anchordb::storage::trained_models {
 

@@ -12,7 +12,7 @@
 #include "services/scene/keyframe_listener.h"
 #include "storage/event_repository.h"
 #include "storage/scene_repository.h"
-#include "storage/sqlite.h"
+#include "storage/connection.h"
 
 namespace anchordb::services::events_internal {
 

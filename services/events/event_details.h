@@ -7,7 +7,7 @@
 #include <string>
 
 #include "services/events/event_types.h"
-#include "storage/sqlite.h"
+#include "storage/connection.h"
 
 namespace anchordb::services {
 

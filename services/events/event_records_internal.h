@@ -12,7 +12,7 @@
 #include "services/events/event_types.h"
 #include "storage/event_repository.h"
 #include "storage/instance_classification_repository.h"
-#include "storage/sqlite.h"
+#include "storage/connection.h"
 #include "services/common/require.h"
 
 namespace anchordb::services::events_internal {

@@ -9,7 +9,7 @@
 #include "schema/error.h"
 #include "schema/json_io.h"
 #include "storage/backup.h"
-#include "storage/sqlite.h"
+#include "storage/connection.h"
 
 namespace anchordb::services {
 namespace {
@@ -49,9 +49,9 @@ JobKind BackupJobKind(const std::string& db_path, const JobSettings& settings) {
       storage::ConnectionOptions options;
       options.busy_timeout_ms = timeout_ms;
       options.synchronous = synchronous;
-      storage::Connection c(db_path, options);
-      storage::Transaction tx(c);
-      job.Record(c, JobStatus::kSucceeded, "done", 1.0, &result);
+      const std::unique_ptr<storage::Connection> c = storage::OpenConnection(db_path, options);
+      storage::Transaction tx(*c);
+      job.Record(*c, JobStatus::kSucceeded, "done", 1.0, &result);
       tx.Commit();
     } catch (...) {
       std::error_code ec;

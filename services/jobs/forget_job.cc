@@ -53,7 +53,8 @@ std::optional<std::string> RunForget(JobContext& job, const std::string& db_path
   storage::ConnectionOptions options;
   options.busy_timeout_ms = settings.busy_timeout_ms;
   options.synchronous = settings.synchronous;
-  storage::Connection connection(db_path, options);
+  const std::unique_ptr<storage::Connection> owned_connection = storage::OpenConnection(db_path, options);
+  storage::Connection& connection = *owned_connection;
   InterruptibleScope interruptible(job, connection);
   const auto progress = [&](std::string_view stage, double fraction) { job.Progress(stage, fraction); };
   const auto before_commit = [&](storage::Connection& c, const storage::ForgetReport& report) {

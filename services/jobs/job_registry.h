@@ -12,7 +12,7 @@
 #include <string_view>
 
 #include "services/jobs/job_types.h"
-#include "storage/sqlite.h"
+#include "storage/connection.h"
 
 namespace anchordb::services {
 
@@ -31,7 +31,7 @@ class JobContext {
   virtual void Progress(std::string_view stage, double fraction) = 0;
   virtual void Progress(double fraction) = 0;  // in the current stage
   virtual bool Cancelled() const = 0;
-  // While set, a cancellation also interrupts the statement running on `c` (sqlite3_interrupt); nullptr clears it.
+  // While set, a cancellation also interrupts the statement running on `c` (Connection::Interrupt); nullptr clears it.
   virtual void SetInterruptible(storage::Connection* c) = 0;
   // Records the job's status inside the runner's own transaction on `c`, so that an outcome commits with the work
   // it describes (result_json null: the stored result is kept).

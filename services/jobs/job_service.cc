@@ -49,7 +49,7 @@ class JobService::Context final : public JobContext {
   void SetInterruptible(storage::Connection* c) override {
     std::lock_guard<std::mutex> lock(service_.mutex_);
     service_.live_connection_ = c;
-    if (c && Cancelled()) sqlite3_interrupt(c->handle());
+    if (c && Cancelled()) c->Interrupt();
   }
   void Record(storage::Connection& c, JobStatus status, const std::string& stage, double progress,
               const std::string* result_json) override {
@@ -85,7 +85,7 @@ JobService::~JobService() {
     std::lock_guard<std::mutex> lock(mutex_);
     stop_ = true;
     interrupt_ = true;
-    if (live_connection_) sqlite3_interrupt(live_connection_->handle());
+    if (live_connection_) live_connection_->Interrupt();
   }
   wake_.notify_all();
   if (worker_.joinable()) worker_.join();
@@ -198,7 +198,7 @@ bool JobService::Cancel(std::int64_t id) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (live_id_ != id) return false;
   cancel_ = true;
-  if (live_connection_) sqlite3_interrupt(live_connection_->handle());
+  if (live_connection_) live_connection_->Interrupt();
   return true;
 }
 

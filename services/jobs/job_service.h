@@ -28,7 +28,7 @@
 #include "services/jobs/job_types.h"
 #include "storage/forget_policy.h"
 #include "storage/job_repository.h"
-#include "storage/sqlite.h"
+#include "storage/connection.h"
 #include "storage/store.h"
 
 namespace anchordb::services {
@@ -104,7 +104,7 @@ class JobService {
   std::int64_t live_id_ = 0;
   std::string live_stage_;
   double live_progress_ = 0.0;
-  storage::Connection* live_connection_ = nullptr;  // for sqlite3_interrupt on stop or cancel
+  storage::Connection* live_connection_ = nullptr;  // interrupted on stop or cancel
   // Jobs that failed while the database refused to record it (id -> error): served as failed, never run again,
   // written when the worker next wakes (start-up marks them failed if the server stops first).
   std::map<std::int64_t, std::string> unrecorded_failures_;

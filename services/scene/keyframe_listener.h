@@ -12,7 +12,7 @@
 
 #include "schema/types.h"
 #include "services/events/event_types.h"
-#include "storage/sqlite.h"
+#include "storage/connection.h"
 
 namespace anchordb::services {
 

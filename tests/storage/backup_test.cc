@@ -39,7 +39,7 @@ void Fill(Connection& c, int first, int pairs) {
 TEST(BackupTest, CopyTakenWhileAnotherConnectionWritesIsConsistentAndComplete) {
   testing::TempDir dir;
   const std::string db = dir.File("live.sqlite");
-  Connection writer(db, Writable());
+  SqliteConnection writer(db, Writable());
   writer.Exec("CREATE TABLE ledger (id INTEGER PRIMARY KEY, v INTEGER NOT NULL, pad BLOB)");
   Fill(writer, 1, 2000);  // ~12 MB: many steps of 256 pages
   const std::int64_t rows_before = Scalar(writer, "SELECT COUNT(*) FROM ledger");
@@ -47,7 +47,7 @@ TEST(BackupTest, CopyTakenWhileAnotherConnectionWritesIsConsistentAndComplete) {
   std::atomic<bool> stop{false};
   std::atomic<int> commits{0};
   std::thread load([&] {
-    Connection c(db, Writable());
+    SqliteConnection c(db, Writable());
     for (int k = 0; !stop; ++k) {
       Fill(c, 100000 + 10 * k, 5);
       ++commits;
@@ -78,7 +78,7 @@ TEST(BackupTest, CopyTakenWhileAnotherConnectionWritesIsConsistentAndComplete) {
 
   ConnectionOptions ro;
   ro.read_only = true;
-  Connection c(copy, ro);
+  SqliteConnection c(copy, ro);
   const std::int64_t rows = Scalar(c, "SELECT COUNT(*) FROM ledger");
   EXPECT_GE(rows, rows_before);                                   // nothing committed before the backup is missing
   EXPECT_EQ(rows % 2, 0);                                         // no half transaction
@@ -92,7 +92,7 @@ TEST(BackupTest, ExistingTargetIsRefusedAndAnAbortedCopyLeavesNoFile) {
   testing::TempDir dir;
   const std::string db = dir.File("live.sqlite");
   {
-    Connection writer(db, Writable());
+    SqliteConnection writer(db, Writable());
     writer.Exec("CREATE TABLE ledger (id INTEGER PRIMARY KEY, v INTEGER NOT NULL, pad BLOB)");
     Fill(writer, 1, 500);
   }

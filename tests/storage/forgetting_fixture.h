@@ -14,6 +14,7 @@
 #include "storage/forgetting.h"
 #include "storage/repositories.h"
 #include "storage/scene_repository.h"
+#include "storage/sqlite.h"
 #include "storage/store.h"
 #include "tests/support/temp_dir.h"
 
@@ -161,7 +162,7 @@ class ForgetFixture : public ::testing::Test {
 
   ForgetReport Run(const ForgetPolicy& policy, bool dry_run, const ForgetProgress& progress = {},
                    const ForgetBeforeCommit& before_commit = {}) {
-    Connection c(store_->path(), {});
+    SqliteConnection c(store_->path(), {});
     return Forget(c, "home", policy, kNow, dry_run, progress, before_commit);
   }
 

@@ -199,7 +199,7 @@ TEST_F(forgetting, BookkeepingMistakesFailOnTheForeignKeys) {
 }
 
 TEST_F(forgetting, UnknownMapAndOpenTransactionAreRefused) {
-  Connection conn(store_->path(), {});
+  SqliteConnection conn(store_->path(), {});
   try {
     Forget(conn, "nowhere", {}, kNow, false);
     FAIL() << "no error";

@@ -1,4 +1,5 @@
 // The SQLite store on real files: migrations, repositories, cascades, the R*Tree index, restart round trips.
+#include "storage/sqlite.h"
 #include "storage/store.h"
 
 #include <gtest/gtest.h>
@@ -57,7 +58,7 @@ TEST(MigrationsTest, NewerDatabaseIsRefusedUntouched) {
   testing::TempDir dir;
   const std::string path = dir.File("future.sqlite");
   {
-    Connection c(path, {});
+    SqliteConnection c(path, {});
     c.Exec("CREATE TABLE something_new (x INTEGER)");
     c.Exec("PRAGMA user_version = 999");
   }
@@ -68,7 +69,7 @@ TEST(MigrationsTest, NewerDatabaseIsRefusedUntouched) {
     EXPECT_EQ(e.code(), ErrorCode::kConflict);
     EXPECT_NE(std::string(e.what()).find("999"), std::string::npos);
   }
-  Connection c(path, {});
+  SqliteConnection c(path, {});
   EXPECT_EQ(UserVersion(c), 999);
   Statement s(c, "SELECT count(*) FROM sqlite_master WHERE name = 'maps'");
   s.Step();
@@ -77,7 +78,7 @@ TEST(MigrationsTest, NewerDatabaseIsRefusedUntouched) {
 
 TEST(MigrationsTest, FailingMigrationRollsBackAndKeepsVersion) {
   testing::TempDir dir;
-  Connection c(dir.File("db.sqlite"), {});
+  SqliteConnection c(dir.File("db.sqlite"), {});
   const std::vector<Migration> migrations = {{1, "0001_ok.sql", "CREATE TABLE a (x INTEGER);"},
                                              {2, "0002_bad.sql", "CREATE TABLE b (x INTEGER); THIS IS NOT SQL;"}};
   EXPECT_THROW(ApplyMigrations(c, migrations), Error);
@@ -92,7 +93,7 @@ TEST(MigrationsTest, FailingMigrationRollsBackAndKeepsVersion) {
 // AUTOINCREMENT high-water mark (an id once served is never reused) all survive, and foreign keys are on after it.
 TEST(MigrationsTest, TheEventsRebuildKeepsRowsReferencesAndTheIdHighWaterMark) {
   testing::TempDir dir;
-  Connection c(dir.File("db.sqlite"), {});
+  SqliteConnection c(dir.File("db.sqlite"), {});
   std::vector<Migration> before, all = EmbeddedMigrations();
   for (const Migration& m : all) {
     if (m.version < 16) before.push_back(m);
@@ -133,7 +134,7 @@ TEST(MigrationsTest, TheEventsRebuildKeepsRowsReferencesAndTheIdHighWaterMark) {
 
 TEST(MigrationsTest, AMigrationWithForeignKeysOffThatBreaksAKeyChangesNothing) {
   testing::TempDir dir;
-  Connection c(dir.File("db.sqlite"), {});
+  SqliteConnection c(dir.File("db.sqlite"), {});
   const auto count = [&](const char* sql) {
     Statement s(c, sql);
     s.Step();

@@ -1,0 +1,284 @@
+#include "storage/postgres.h"
+
+#include <charconv>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include "schema/error.h"
+
+namespace anchordb::storage {
+namespace {
+
+constexpr Oid kPgInt8 = 20, kPgFloat8 = 701, kPgText = 25, kPgBytea = 17;
+
+ErrorCode ErrorCodeOfSqlState(std::string_view state) {
+  if (state == "23505" || state == "23503" || state == "23P01") return ErrorCode::kConflict;
+  if (state == "23514" || state == "23502") return ErrorCode::kInternal;
+  if (state == "40001" || state == "40P01" || state == "57014" || state == "55P03") return ErrorCode::kOverloaded;
+  if (state == "53100") return ErrorCode::kInsufficientStorage;
+  if (state.substr(0, 2) == "08" || state.substr(0, 4) == "57P0" || state == "25006" || state == "53300" ||
+      state == "53200") {
+    return ErrorCode::kUnavailable;
+  }
+  return ErrorCode::kInternal;
+}
+
+int PgHexDigit(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+// bytea in text form is "\x" followed by two hex digits a byte (the server's default bytea_output).
+std::string DecodePgBytea(const char* text, int length) {
+  if (length < 2 || text[0] != '\\' || text[1] != 'x') throw Error(ErrorCode::kInternal, "bytea not in hex form");
+  std::string out(static_cast<std::size_t>(length - 2) / 2, '\0');
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const int hi = PgHexDigit(text[2 + 2 * i]), lo = PgHexDigit(text[3 + 2 * i]);
+    if (hi < 0 || lo < 0) throw Error(ErrorCode::kInternal, "bytea with a bad hex digit");
+    out[i] = static_cast<char>(hi * 16 + lo);
+  }
+  return out;
+}
+
+// One statement of a PostgreSQL connection: parameters are collected by Bind, the statement runs at the first Step,
+// and the rows of its result are walked by the following ones.
+class PostgresCursor final : public Cursor {
+ public:
+  PostgresCursor(const PostgresConnection& connection, std::string_view sql) : connection_(connection) {
+    auto [text, count] = PostgresPlaceholders(sql);
+    sql_ = std::move(text);
+    values_.resize(count);
+    null_.assign(count, true);
+    types_.assign(count, 0);
+    formats_.assign(count, 0);
+  }
+  ~PostgresCursor() override { PQclear(result_); }
+
+  void BindInt(int i, std::int64_t v) override { Set(i, std::to_string(v), kPgInt8, 0); }
+  void BindDouble(int i, double v) override {
+    char buffer[32];
+    const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, v);  // shortest text that reads back exactly
+    Set(i, std::string(buffer, end), kPgFloat8, 0);
+  }
+  void BindText(int i, std::string_view t) override { Set(i, std::string(t), kPgText, 0); }
+  void BindBlob(int i, std::string_view b) override { Set(i, std::string(b), kPgBytea, 1); }
+  void BindNull(int i) override {
+    Check(i);
+    null_[i - 1] = true;
+    types_[i - 1] = 0;
+  }
+
+  bool Step() override {
+    if (!result_) {
+      std::vector<const char*> values(values_.size());
+      std::vector<int> lengths(values_.size());
+      for (std::size_t k = 0; k < values_.size(); ++k) {
+        values[k] = null_[k] ? nullptr : values_[k].data();
+        lengths[k] = static_cast<int>(values_[k].size());
+      }
+      result_ = connection_.Run(sql_, static_cast<int>(values_.size()), types_.data(), values.data(), lengths.data(),
+                                formats_.data());
+      row_ = -1;
+    }
+    return ++row_ < PQntuples(result_);
+  }
+
+  std::int64_t Int(int c) const override {
+    const char* v = Value(c);
+    if (v[0] == 't' && v[1] == '\0') return 1;  // a boolean
+    if (v[0] == 'f' && v[1] == '\0') return 0;
+    return std::strtoll(v, nullptr, 10);
+  }
+  double Double(int c) const override { return std::strtod(Value(c), nullptr); }
+  std::string Text(int c) const override { return std::string(Value(c), PQgetlength(result_, row_, c)); }
+  std::string Blob(int c) const override {
+    if (PQftype(result_, c) != kPgBytea) return Text(c);
+    return DecodePgBytea(Value(c), PQgetlength(result_, row_, c));
+  }
+  bool IsNull(int c) const override { return PQgetisnull(result_, row_, c) != 0; }
+
+  // Ready for the next use of the same SQL text.
+  void Reset() {
+    PQclear(result_);
+    result_ = nullptr;
+    null_.assign(null_.size(), true);
+    types_.assign(types_.size(), 0);
+  }
+  const std::string& sql() const { return sql_; }
+
+ private:
+  void Check(int i) const {
+    if (i < 1 || i > static_cast<int>(values_.size())) {
+      throw Error(ErrorCode::kInternal, "bind: parameter " + std::to_string(i) + " of " + std::to_string(values_.size()));
+    }
+  }
+  void Set(int i, std::string value, Oid type, int format) {
+    Check(i);
+    values_[i - 1] = std::move(value);
+    null_[i - 1] = false;
+    types_[i - 1] = type;
+    formats_[i - 1] = format;
+  }
+  const char* Value(int c) const {
+    if (!result_ || row_ < 0 || row_ >= PQntuples(result_) || c < 0 || c >= PQnfields(result_)) {
+      throw Error(ErrorCode::kInternal, "column " + std::to_string(c) + " read outside a row");
+    }
+    return PQgetvalue(result_, row_, c);
+  }
+
+  const PostgresConnection& connection_;
+  std::string sql_;
+  std::vector<std::string> values_;
+  std::vector<bool> null_;
+  std::vector<Oid> types_;
+  std::vector<int> formats_;
+  PGresult* result_ = nullptr;
+  int row_ = -1;
+};
+
+}  // namespace
+
+bool IsPostgresUri(std::string_view location) {
+  return location.rfind("postgresql://", 0) == 0 || location.rfind("postgres://", 0) == 0;
+}
+
+std::pair<std::string, int> PostgresPlaceholders(std::string_view sql) {
+  std::string out;
+  out.reserve(sql.size() + 16);
+  int next = 0, highest = 0;
+  char quote = 0;
+  for (std::size_t i = 0; i < sql.size(); ++i) {
+    const char ch = sql[i];
+    if (quote) {
+      out += ch;
+      if (ch == quote) quote = 0;
+      continue;
+    }
+    if (ch == '\'' || ch == '"') {
+      quote = ch;
+      out += ch;
+      continue;
+    }
+    if (ch != '?') {
+      out += ch;
+      continue;
+    }
+    int number = 0;
+    std::size_t j = i + 1;
+    while (j < sql.size() && sql[j] >= '0' && sql[j] <= '9') number = number * 10 + (sql[j++] - '0');
+    if (j == i + 1) number = ++next;  // a plain '?' takes the next position, as SQLite numbers them
+    else next = std::max(next, number);
+    highest = std::max(highest, number);
+    out += '$' + std::to_string(number);
+    i = j - 1;
+  }
+  return {out, highest};
+}
+
+PostgresConnection::PostgresConnection(const std::string& uri, const ConnectionOptions& options) : uri_(uri) {
+  (void)options;
+  try {
+    EnsureConnected();
+  } catch (...) {
+    if (conn_) PQfinish(conn_);  // the destructor does not run for a constructor that throws
+    conn_ = nullptr;
+    throw;
+  }
+}
+
+PostgresConnection::~PostgresConnection() {
+  if (cancel_) PQfreeCancel(cancel_);
+  if (conn_) PQfinish(conn_);
+}
+
+void PostgresConnection::EnsureConnected() const {
+  if (conn_ && PQstatus(conn_) == CONNECTION_OK) return;
+  if (conn_) {
+    PQreset(conn_);
+  } else {
+    conn_ = PQconnectdb(uri_.c_str());
+  }
+  prepared_.clear();  // a new server session knows none of them
+  {
+    std::lock_guard<std::mutex> lock(cancel_mutex_);
+    if (cancel_) PQfreeCancel(cancel_);
+    cancel_ = PQstatus(conn_) == CONNECTION_OK ? PQgetCancel(conn_) : nullptr;
+  }
+  if (!conn_ || PQstatus(conn_) != CONNECTION_OK) {
+    throw Error(ErrorCode::kUnavailable, std::string("the PostgreSQL server cannot be reached for now, retry later: ") +
+                                             (conn_ ? PQerrorMessage(conn_) : "out of memory"));
+  }
+  PGresult* r = PQexec(conn_, "SET client_min_messages = warning");
+  PQclear(r);
+}
+
+void PostgresConnection::ThrowResult(PGresult* result, std::string_view what) const {
+  const char* state = result ? PQresultErrorField(result, PG_DIAG_SQLSTATE) : nullptr;
+  std::string message = std::string(what) + ": " + (result ? PQresultErrorMessage(result) : PQerrorMessage(conn_));
+  while (!message.empty() && message.back() == '\n') message.pop_back();
+  ErrorCode code = state ? ErrorCodeOfSqlState(state) : ErrorCode::kUnavailable;
+  if (PQstatus(conn_) != CONNECTION_OK) code = ErrorCode::kUnavailable;
+  if (state) message += std::string(" (SQLSTATE ") + state + ")";
+  PQclear(result);
+  if (code == ErrorCode::kUnavailable) message = "storage is unavailable for now, retry later: " + message;
+  if (code == ErrorCode::kInsufficientStorage) message = "the disk is full: " + message;
+  throw Error(code, message);
+}
+
+void PostgresConnection::Exec(std::string_view sql) {
+  EnsureConnected();
+  PGresult* r = PQexec(conn_, std::string(sql).c_str());
+  const ExecStatusType status = PQresultStatus(r);
+  if (status != PGRES_COMMAND_OK && status != PGRES_TUPLES_OK) ThrowResult(r, "exec");
+  PQclear(r);
+}
+
+bool PostgresConnection::InTransaction() const {
+  const PGTransactionStatusType s = PQtransactionStatus(conn_);
+  return s == PQTRANS_INTRANS || s == PQTRANS_INERROR || s == PQTRANS_ACTIVE;
+}
+
+void PostgresConnection::EndStuckTransaction() {
+  if (!conn_ || PQstatus(conn_) != CONNECTION_OK || !InTransaction()) return;
+  PQclear(PQexec(conn_, "ROLLBACK"));
+}
+
+void PostgresConnection::Interrupt() {
+  std::lock_guard<std::mutex> lock(cancel_mutex_);
+  if (!cancel_) return;
+  char error[256];
+  PQcancel(cancel_, error, sizeof error);  // best effort: a statement that already ended is not affected
+}
+
+PGresult* PostgresConnection::Run(const std::string& sql, int parameters, const Oid* types, const char* const* values,
+                                  const int* lengths, const int* formats) const {
+  EnsureConnected();
+  std::string key = sql;
+  key += '\0';
+  for (int k = 0; k < parameters; ++k) key += std::to_string(types[k]) + ",";
+  auto it = prepared_.find(key);
+  if (it == prepared_.end()) {
+    const std::string name = "s" + std::to_string(prepared_.size() + 1);
+    PGresult* p = PQprepare(conn_, name.c_str(), sql.c_str(), parameters, types);
+    if (PQresultStatus(p) != PGRES_COMMAND_OK) ThrowResult(p, "prepare");
+    PQclear(p);
+    it = prepared_.emplace(std::move(key), name).first;
+  }
+  PGresult* r = PQexecPrepared(conn_, it->second.c_str(), parameters, values, lengths, formats, 0);
+  const ExecStatusType status = PQresultStatus(r);
+  if (status != PGRES_COMMAND_OK && status != PGRES_TUPLES_OK) ThrowResult(r, "step");
+  const char* tuples = PQcmdTuples(r);
+  changes_ = tuples && *tuples ? std::strtoll(tuples, nullptr, 10) : 0;
+  return r;
+}
+
+std::unique_ptr<Cursor> PostgresConnection::Acquire(std::string_view sql) const {
+  return std::make_unique<PostgresCursor>(*this, sql);
+}
+
+void PostgresConnection::Release(std::unique_ptr<Cursor> cursor) const { cursor.reset(); }
+
+}  // namespace anchordb::storage

@@ -1,0 +1,62 @@
+#pragma once
+// The PostgreSQL engine of the storage contract (storage/connection.h), over libpq. SQL is written once for both
+// engines: `?` and `?N` placeholders become `$k`, parameters are sent typed (int8, float8, text, bytea binary) and
+// rows are read in text form. Error kinds by SQLSTATE, as SQLite's: 23505 / 23503 (unique, foreign key) kConflict;
+// 23514 / 23502 (CHECK, NOT NULL) kInternal; 40001 / 40P01 / 57014 (serialisation failure, deadlock, statement
+// timeout or cancel) kOverloaded; 53100 (disk full) kInsufficientStorage; a lost connection (class 08, 57P0x), a
+// read-only standby (25006) or too many connections (53300) kUnavailable, and the next call reconnects.
+#include <libpq-fe.h>
+
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <string_view>
+#include <utility>
+
+#include "storage/connection.h"
+
+namespace anchordb::storage {
+
+// True when `location` is a libpq connection URI (postgresql:// or postgres://).
+bool IsPostgresUri(std::string_view location);
+
+// `?` and `?N` placeholders outside quoted literals become `$k`; answers the text and the number of parameters.
+std::pair<std::string, int> PostgresPlaceholders(std::string_view sql);
+
+class PostgresConnection final : public Connection {
+ public:
+  PostgresConnection(const std::string& uri, const ConnectionOptions& options);
+  ~PostgresConnection() override;
+
+  Engine engine() const override { return Engine::kPostgresql; }
+  void Exec(std::string_view sql) override;
+  std::int64_t Changes() const override { return changes_; }
+  bool InTransaction() const override;
+  void EndStuckTransaction() override;
+  void Interrupt() override;
+  void BeginWrite() override { Exec("BEGIN"); }
+  void BeginRead() override { Exec("BEGIN ISOLATION LEVEL REPEATABLE READ READ ONLY"); }
+  void EndRead() override { Exec("ROLLBACK"); }
+
+  // For the cursors of this connection: runs a prepared statement (preparing it once per SQL text and parameter
+  // types) and answers its result; throws the mapped error.
+  PGresult* Run(const std::string& sql, int parameters, const Oid* types, const char* const* values,
+                const int* lengths, const int* formats) const;
+
+ private:
+  std::unique_ptr<Cursor> Acquire(std::string_view sql) const override;
+  void Release(std::unique_ptr<Cursor> cursor) const override;
+  // Reconnects a connection found broken (a restarted or failed-over server); throws kUnavailable when it cannot.
+  void EnsureConnected() const;
+  [[noreturn]] void ThrowResult(PGresult* result, std::string_view what) const;
+
+  std::string uri_;
+  mutable PGconn* conn_ = nullptr;
+  mutable std::mutex cancel_mutex_;  // Interrupt runs on another thread
+  mutable PGcancel* cancel_ = nullptr;
+  mutable std::int64_t changes_ = 0;
+  mutable std::map<std::string, std::string> prepared_;  // SQL + parameter types -> prepared statement name
+};
+
+}  // namespace anchordb::storage
