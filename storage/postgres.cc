@@ -100,15 +100,6 @@ class PostgresCursor final : public Cursor {
   }
   bool IsNull(int c) const override { return PQgetisnull(result_, row_, c) != 0; }
 
-  // Ready for the next use of the same SQL text.
-  void Reset() {
-    PQclear(result_);
-    result_ = nullptr;
-    null_.assign(null_.size(), true);
-    types_.assign(types_.size(), 0);
-  }
-  const std::string& sql() const { return sql_; }
-
  private:
   void Check(int i) const {
     if (i < 1 || i > static_cast<int>(values_.size())) {
