@@ -56,7 +56,8 @@ AnalysisQueueSummary SummariseAnalysisQueue(Connection& c, const std::optional<s
   const std::string where = map ? " WHERE map_id = ?" : "";
   AnalysisQueueSummary out;
   {
-    Statement s(c, "SELECT coalesce(sum(failed = 0), 0), coalesce(sum(failed = 1), 0), coalesce(sum(failed = 0 AND attempts > 0), 0), "
+    Statement s(c, "SELECT count(CASE WHEN failed = 0 THEN 1 END), count(CASE WHEN failed = 1 THEN 1 END), "
+                   "count(CASE WHEN failed = 0 AND attempts > 0 THEN 1 END), "
                    "min(CASE WHEN failed = 0 THEN enqueued_ns END) FROM keyframe_analysis_queue" + where);
     if (map) s.Bind(1, *map);
     s.Step();

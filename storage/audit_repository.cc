@@ -30,7 +30,8 @@ bool UpdateAuditOutcome(Connection& c, std::int64_t id, int status, const std::o
 std::vector<AuditRecord> ListAuditRecords(Connection& c, const AuditFilter& f) {
   Statement s(c,
               "SELECT id, time_ns, actor, role, action, map_id, resource, request_id, status, before_json, after_json "
-              "FROM audit_log WHERE id > ?1 AND (?2 IS NULL OR time_ns >= ?2) AND (?3 IS NULL OR time_ns < ?3) "
+              "FROM audit_log WHERE id > ?1 AND (CAST(?2 AS BIGINT) IS NULL OR time_ns >= ?2) "
+              "AND (CAST(?3 AS BIGINT) IS NULL OR time_ns < ?3) "
               "AND (?4 = '' OR actor = ?4) AND (?5 = '' OR action = ?5) AND (?6 = '' OR map_id = ?6) "
               "ORDER BY id LIMIT ?7");
   s.Bind(1, f.after_id);

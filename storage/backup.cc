@@ -65,6 +65,11 @@ std::string BackupFileName(const std::string& directory, const std::string& db_p
 BackupReport Backup(const std::string& source_path, const std::string& dest_path, int busy_timeout_ms,
                     const BackupProgress& progress, int pages_per_step) {
   const auto start = std::chrono::steady_clock::now();
+  if (IsPostgresUri(source_path)) {
+    throw Error(ErrorCode::kInvalidArgument,
+                "anchordb backs up a SQLite file only; a PostgreSQL database is backed up with PostgreSQL's own tools "
+                "(pg_basebackup for the cluster with point-in-time recovery, or pg_dump -Fc for this database)");
+  }
   std::error_code ec;
   if (fs::exists(dest_path, ec)) throw Error(ErrorCode::kConflict, "backup file " + dest_path + " exists already", "file");
   const fs::path parent = fs::path(dest_path).parent_path();

@@ -27,7 +27,8 @@ struct BackupReport {
 using BackupProgress = std::function<void(double fraction)>;
 
 // Copies the database at `source_path` to `dest_path` (which must not exist; its directory is created).
-// Throws anchordb::Error: kConflict if `dest_path` exists, kInternal on I/O errors.
+// Throws anchordb::Error: kConflict if `dest_path` exists, kInternal on I/O errors, kInvalidArgument for a PostgreSQL
+// location (the message names pg_basebackup and pg_dump: the server's own tools back it up).
 BackupReport Backup(const std::string& source_path, const std::string& dest_path, int busy_timeout_ms,
                     const BackupProgress& progress = {}, int pages_per_step = 256);
 

@@ -79,6 +79,9 @@ class Connection {
   virtual void Release(std::unique_ptr<Cursor> cursor) const = 0;
 };
 
+// True when `location` is a libpq connection URI (postgresql:// or postgres://); anything else is a SQLite file path.
+bool IsPostgresUri(std::string_view location);
+
 // Opens `location` with the engine it names: a libpq URI (postgresql://...) is a PostgreSQL database, anything else
 // (a file path, ":memory:") a SQLite file.
 std::unique_ptr<Connection> OpenConnection(const std::string& location, const ConnectionOptions& options);

@@ -1,5 +1,7 @@
 #include "storage/event_repository.h"
 
+#include "storage/dialect.h"
+
 #include "schema/error.h"
 
 namespace anchordb::storage {
@@ -136,9 +138,8 @@ std::vector<InstanceRecord> ListInstances(Connection& c, const std::string& map_
     // One IN list (an OR of two would make SQLite scan the map's instances); a distribution that is not valid JSON
     // counts as no classification instead of failing the query.
     sql += " AND id IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1 AND label = ?6"
-           " UNION SELECT k.instance_id FROM instance_classifications AS k,"
-           " json_each(CASE WHEN json_valid(k.distribution) THEN k.distribution ELSE '{}' END) AS j"
-           " WHERE k.map_id = ?1 AND j.key = ?6 AND j.value > 0 AND ?6 != 'unknown'"
+           " UNION SELECT k.instance_id FROM instance_classifications AS k, " + JsonObjectEntries(c.engine(), "k.distribution") +
+           " AS j WHERE k.map_id = ?1 AND j.key = ?6 AND CAST(j.value AS DOUBLE PRECISION) > 0 AND ?6 != 'unknown'"
            " AND k.instance_id NOT IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1))";
   }
   sql += " ORDER BY id LIMIT ?5";
@@ -204,7 +205,7 @@ std::int64_t InsertEvent(Connection& c, const EventRecord& e) {
   s.Bind(10, e.explanation).Bind(11, e.details_json).Bind(12, static_cast<std::int64_t>(e.pinned)).Bind(13, e.created_ns);
   const std::int64_t id = s.RunReturningId();
   for (const auto& ev : e.evidence) {
-    Statement(c, "INSERT OR IGNORE INTO event_evidence (event_id, keyframe_id, role) VALUES (?, ?, ?)")
+    Statement(c, "INSERT INTO event_evidence (event_id, keyframe_id, role) VALUES (?, ?, ?) ON CONFLICT DO NOTHING")
         .Bind(1, id).Bind(2, ev.keyframe_id).Bind(3, ev.role).Run();
   }
   return id;

@@ -1,5 +1,7 @@
 #include "storage/feature_repository.h"
 
+#include "storage/dialect.h"
+
 #include <algorithm>
 #include <limits>
 
@@ -55,13 +57,15 @@ std::int64_t InsertFeature(Connection& c, const FeatureRecord& f) {
 std::vector<FeatureRecord> ListFeatures(Connection& c, const std::string& map, const FeatureFilter& q) {
   std::string sql = std::string("SELECT ") + kFeatureColumns + " FROM features f";
   const bool spatial = q.box_min_m.has_value() || q.near_m.has_value();
-  if (spatial) sql += " JOIN feature_anchors a ON a.id = f.id";
   sql += " WHERE f.map_id = ? AND f.id > ?";
   if (!q.type.empty()) sql += " AND f.type = ?";
-  if (q.box_min_m) sql += " AND a.min_x >= ? AND a.max_x <= ? AND a.min_y >= ? AND a.max_y <= ? AND a.min_z >= ? AND a.max_z <= ?";
+  // The spatial index narrows by box (hi x, hi y, lo x, lo y, hi z, lo z); the exact test on the row follows.
+  const std::string in_box = spatial ? PointInBox(c.engine(), {"feature_anchors", "id", "f.id", "f.x_m", "f.y_m", "f.z_m"},
+                                                  {"?", "?", "?", "?", "?", "?"})
+                                     : std::string();
+  if (q.box_min_m) sql += " AND " + in_box + " AND f.x_m BETWEEN ? AND ? AND f.y_m BETWEEN ? AND ? AND f.z_m BETWEEN ? AND ?";
   if (q.near_m) {
-    sql += " AND a.min_x >= ? AND a.max_x <= ? AND a.min_y >= ? AND a.max_y <= ? AND a.min_z >= ? AND a.max_z <= ?"
-           " AND (f.x_m - ?) * (f.x_m - ?) + (f.y_m - ?) * (f.y_m - ?) + (f.z_m - ?) * (f.z_m - ?) <= ?";
+    sql += " AND " + in_box + " AND (f.x_m - ?) * (f.x_m - ?) + (f.y_m - ?) * (f.y_m - ?) + (f.z_m - ?) * (f.z_m - ?) <= ?";
   }
   if (q.since_ns) sql += " AND f.stamp_ns >= ?";
   if (q.until_ns) sql += " AND f.stamp_ns < ?";
@@ -72,16 +76,19 @@ std::vector<FeatureRecord> ListFeatures(Connection& c, const std::string& map, c
   s.Bind(i++, map);
   s.Bind(i++, q.after_id);
   if (!q.type.empty()) s.Bind(i++, q.type);
-  auto bind_box = [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-    for (int axis = 0; axis < 3; ++axis) {
-      s.Bind(i++, lo[axis]);
-      s.Bind(i++, hi[axis]);
-    }
+  auto bind_index_box = [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {  // the order of BoxBounds
+    for (const double bound : {hi.x(), hi.y(), lo.x(), lo.y(), hi.z(), lo.z()}) s.Bind(i++, bound);
   };
-  if (q.box_min_m) bind_box(*q.box_min_m, *q.box_max_m);
+  if (q.box_min_m) {
+    bind_index_box(*q.box_min_m, *q.box_max_m);
+    for (int axis = 0; axis < 3; ++axis) {
+      s.Bind(i++, (*q.box_min_m)[axis]);
+      s.Bind(i++, (*q.box_max_m)[axis]);
+    }
+  }
   if (q.near_m) {
     const Eigen::Vector3d r = Eigen::Vector3d::Constant(q.radius_m);
-    bind_box(*q.near_m - r, *q.near_m + r);
+    bind_index_box(*q.near_m - r, *q.near_m + r);
     for (int axis = 0; axis < 3; ++axis) {
       s.Bind(i++, (*q.near_m)[axis]);
       s.Bind(i++, (*q.near_m)[axis]);
@@ -132,8 +139,10 @@ void DeleteFeature(Connection& c, std::int64_t feature_id) {
 }
 
 void UpsertCodebook(Connection& c, const CodebookRecord& b) {
-  Statement s(c, "INSERT OR REPLACE INTO codebooks (map_id, type, words, dims, seed, centres, features, created_ns) "
-                 "VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
+  Statement s(c, "INSERT INTO codebooks (map_id, type, words, dims, seed, centres, features, created_ns) "
+                 "VALUES (?, ?, ?, ?, ?, ?, ?, ?) ON CONFLICT (map_id, type) DO UPDATE SET words = excluded.words, "
+                 "dims = excluded.dims, seed = excluded.seed, centres = excluded.centres, features = excluded.features, "
+                 "created_ns = excluded.created_ns");
   s.Bind(1, b.map).Bind(2, b.type).Bind(3, static_cast<std::int64_t>(b.words)).Bind(4, static_cast<std::int64_t>(b.dims));
   s.Bind(5, static_cast<std::int64_t>(b.seed)).BindBlob(6, EncodeFloats(b.centres, static_cast<std::uint32_t>(b.words)));
   s.Bind(7, b.features).Bind(8, b.created_ns);

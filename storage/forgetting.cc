@@ -14,6 +14,12 @@ namespace {
 
 using Json = nlohmann::json;
 
+// The database's size in pages (SQLite: the file's pages and its free list; PostgreSQL: the database's size in
+// blocks, and no free list of its own to report).
+std::int64_t PageSize(Connection& c);
+std::int64_t PageCount(Connection& c);
+std::int64_t FreelistCount(Connection& c);
+
 std::int64_t PragmaInt(Connection& c, const char* sql) {
   Statement s(c, sql);
   return s.Step() ? s.Int(0) : 0;
@@ -89,9 +95,9 @@ void DeleteEvents(Connection& c, ForgetReport& r, std::int64_t cutoff, const For
   // Latest event of an instance: the greatest (stamp_ns, id) among its events that place it (a 'labelled' event
   // names it and is kept anyway; it proves no position).
   const char* kSelect =
-      "SELECT e.id, e.pinned, e.type = 'labelled', coalesce(i.pinned, 0), "
-      "  e.instance_id IS NOT NULL AND e.id = (SELECT l.id FROM events l WHERE l.instance_id = e.instance_id "
-      "                                        AND l.type <> 'labelled' ORDER BY l.stamp_ns DESC, l.id DESC LIMIT 1) "
+      "SELECT e.id, e.pinned, CASE WHEN e.type = 'labelled' THEN 1 ELSE 0 END, coalesce(i.pinned, 0), "
+      "  CASE WHEN e.instance_id IS NOT NULL AND e.id = (SELECT l.id FROM events l WHERE l.instance_id = e.instance_id "
+      "        AND l.type <> 'labelled' ORDER BY l.stamp_ns DESC, l.id DESC LIMIT 1) THEN 1 ELSE 0 END "
       "FROM events e LEFT JOIN instances i ON i.id = e.instance_id "
       "WHERE e.map_id = ? AND e.stamp_ns < ? ORDER BY e.id";
   Statement select(c, kSelect);
@@ -120,11 +126,12 @@ void DeleteEvents(Connection& c, ForgetReport& r, std::int64_t cutoff, const For
 // 3. Old keyframes nobody needs, and their segments that no event uses.
 void DeleteKeyframes(Connection& c, ForgetReport& r, std::int64_t cutoff, const ForgetProgress& progress) {
   const char* kSelect =
-      "SELECT k.id, k.pinned, k.relevance >= ?3, "
-      "  EXISTS (SELECT 1 FROM event_evidence ev WHERE ev.keyframe_id = k.id) OR "
-      "  EXISTS (SELECT 1 FROM segments s JOIN events e ON e.segment_id = s.id WHERE s.keyframe_id = k.id), "
-      "  (m.ended_ns IS NULL OR m.status = 'observing') AND COALESCE(m.last_frame_ns, m.started_ns) >= ?2, "
-      "  m.ended_ns IS NULL OR m.status = 'observing' "
+      "SELECT k.id, k.pinned, CASE WHEN k.relevance >= ?3 THEN 1 ELSE 0 END, "
+      "  CASE WHEN EXISTS (SELECT 1 FROM event_evidence ev WHERE ev.keyframe_id = k.id) OR "
+      "  EXISTS (SELECT 1 FROM segments s JOIN events e ON e.segment_id = s.id WHERE s.keyframe_id = k.id) THEN 1 ELSE 0 END, "
+      "  CASE WHEN (m.ended_ns IS NULL OR m.status = 'observing') AND COALESCE(m.last_frame_ns, m.started_ns) >= ?2 "
+      "  THEN 1 ELSE 0 END, "
+      "  CASE WHEN m.ended_ns IS NULL OR m.status = 'observing' THEN 1 ELSE 0 END "
       "FROM keyframes k JOIN scene_models m ON m.id = k.scene_id "
       "WHERE k.map_id = ?1 AND k.stamp_ns < ?2 ORDER BY k.id";
   Statement select(c, kSelect);
@@ -206,7 +213,42 @@ std::string MainFile(Connection& c) {
   return name ? std::string(name) : std::string();
 }
 
+std::int64_t PostgresDatabaseBytes(Connection& c) {
+  Statement s(c, "SELECT pg_database_size(current_database())");
+  s.Step();
+  return s.Int(0);
+}
+
+std::int64_t PageSize(Connection& c) {
+  if (c.engine() == Engine::kPostgresql) return PragmaInt(c, "SELECT CAST(current_setting('block_size') AS BIGINT)");
+  return PragmaInt(c, "PRAGMA page_size");
+}
+
+std::int64_t PageCount(Connection& c) {
+  if (c.engine() == Engine::kPostgresql) return PostgresDatabaseBytes(c) / PageSize(c);
+  return PragmaInt(c, "PRAGMA page_count");
+}
+
+std::int64_t FreelistCount(Connection& c) {
+  if (c.engine() == Engine::kPostgresql) return 0;
+  return PragmaInt(c, "PRAGMA freelist_count");
+}
+
+// PostgreSQL: a plain VACUUM (outside any transaction) makes the deleted rows' space reusable without locking out
+// readers and writers; the files shrink only where trailing pages became empty (VACUUM FULL would lock the tables).
+void PostgresVacuum(Connection& c, ForgetReport& r, const ForgetProgress& progress) {
+  if (progress) progress("vacuum", 0.9);
+  r.file_bytes_before = PostgresDatabaseBytes(c);
+  c.Exec("VACUUM scene_models, keyframes, segments, events, event_evidence, instance_history, features");
+  r.vacuum_mode = "postgresql_vacuum";
+  r.page_count_after_vacuum = PageCount(c);
+  r.freelist_after_vacuum = 0;
+  r.file_bytes_after = PostgresDatabaseBytes(c);
+  if (progress) progress("vacuum", 1.0);
+}
+
 void Vacuum(Connection& c, ForgetReport& r, const ForgetProgress& progress) {
+  if (c.engine() == Engine::kPostgresql) return PostgresVacuum(c, r, progress);
   if (progress) progress("vacuum", 0.9);
   const std::string path = MainFile(c);
   r.file_bytes_before = DatabaseFileBytes(path);
@@ -318,16 +360,16 @@ ForgetReport Forget(Connection& c, const std::string& map_id, const ForgetPolicy
   {
     Transaction tx(c);
     if (!FindMap(c, map_id)) throw Error(ErrorCode::kNotFound, "map '" + map_id + "' does not exist", "map");
-    r.page_size = PragmaInt(c, "PRAGMA page_size");
-    r.page_count_before = PragmaInt(c, "PRAGMA page_count");
-    r.freelist_before = PragmaInt(c, "PRAGMA freelist_count");
+    r.page_size = PageSize(c);
+    r.page_count_before = PageCount(c);
+    r.freelist_before = FreelistCount(c);
     if (policy.drop_superseded) DropSupersededState(c, r, progress);
     if (policy.event_max_age_s) DeleteEvents(c, r, CutoffNs(now_ns, *policy.event_max_age_s), progress);
     if (policy.keyframe_max_age_s) DeleteKeyframes(c, r, CutoffNs(now_ns, *policy.keyframe_max_age_s), progress);
     if (policy.drop_superseded) DeleteEmptyModels(c, r, progress);
     DeduplicateFeatures(c, r);
-    r.page_count_after = PragmaInt(c, "PRAGMA page_count");
-    r.freelist_after = PragmaInt(c, "PRAGMA freelist_count");
+    r.page_count_after = PageCount(c);
+    r.freelist_after = FreelistCount(c);
     if (progress) progress(dry_run ? "rollback" : "commit", 0.9);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!dry_run) {

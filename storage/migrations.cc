@@ -8,6 +8,17 @@
 namespace anchordb::storage {
 
 int UserVersion(Connection& connection) {
+  if (connection.engine() == Engine::kPostgresql) {
+    {
+      Statement exists(connection, "SELECT count(*) FROM pg_tables WHERE schemaname = current_schema() AND "
+                                   "tablename = 'schema_migrations'");
+      exists.Step();
+      if (exists.Int(0) == 0) return 0;  // a new database
+    }
+    Statement s(connection, "SELECT coalesce(max(version), 0) FROM schema_migrations");
+    s.Step();
+    return static_cast<int>(s.Int(0));
+  }
   Statement s(connection, "PRAGMA user_version");
   s.Step();
   return static_cast<int>(s.Int(0));
@@ -19,17 +30,53 @@ std::int64_t CountOf(Connection& connection, const char* sql) {
   s.Step();
   return s.Int(0);
 }
-}  // namespace
 
-MigrationReport ApplyMigrations(Connection& connection, const std::vector<Migration>& migrations) {
-  MigrationReport report;
-  report.from_version = UserVersion(connection);
+void RefuseNewer(int version, const std::vector<Migration>& migrations) {
   const int newest = migrations.empty() ? 0 : migrations.back().version;
-  if (report.from_version > newest) {
-    throw Error(ErrorCode::kConflict, "database schema version " + std::to_string(report.from_version) +
+  if (version > newest) {
+    throw Error(ErrorCode::kConflict, "database schema version " + std::to_string(version) +
                                           " is newer than this anchordb build supports (" + std::to_string(newest) +
                                           "); refusing to open it: use a newer anchordb");
   }
+}
+
+std::int64_t NowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+void RecordMigration(Connection& connection, const Migration& m) {
+  Statement(connection, "INSERT INTO schema_migrations (version, name, applied_ns) VALUES (?, ?, ?)")
+      .Bind(1, static_cast<std::int64_t>(m.version))
+      .Bind(2, std::string_view(m.name))
+      .Bind(3, NowNs())
+      .Run();
+}
+
+MigrationReport ApplyPostgresMigrations(Connection& connection, const std::vector<Migration>& migrations) {
+  MigrationReport report;
+  Transaction tx(connection);  // holds the database's writer lock (PostgresConnection::BeginWrite): one migrates
+  connection.Exec("CREATE TABLE IF NOT EXISTS schema_migrations (version BIGINT PRIMARY KEY, name TEXT NOT NULL, "
+                  "applied_ns BIGINT NOT NULL)");
+  report.from_version = UserVersion(connection);
+  RefuseNewer(report.from_version, migrations);
+  for (const Migration& m : migrations) {
+    if (m.version <= report.from_version) continue;
+    connection.Exec(m.sql);
+    RecordMigration(connection, m);
+    report.applied.emplace_back(m.name);
+  }
+  report.to_version = UserVersion(connection);
+  tx.Commit();
+  return report;
+}
+}  // namespace
+
+MigrationReport ApplyMigrations(Connection& connection, const std::vector<Migration>& migrations) {
+  if (connection.engine() == Engine::kPostgresql) return ApplyPostgresMigrations(connection, migrations);
+  MigrationReport report;
+  report.from_version = UserVersion(connection);
+  RefuseNewer(report.from_version, migrations);
   connection.Exec(
       "CREATE TABLE IF NOT EXISTS schema_migrations (version INTEGER PRIMARY KEY, name TEXT NOT NULL, "
       "applied_ns INTEGER NOT NULL)");
@@ -71,13 +118,7 @@ MigrationReport ApplyMigrations(Connection& connection, const std::vector<Migrat
       throw Error(ErrorCode::kInternal, std::string("migration ") + m.name + " would leave rows whose foreign key has no "
                                             "parent (table '" + check.Text(0) + "'); nothing was changed");
     }
-    const auto now_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                            std::chrono::system_clock::now().time_since_epoch()).count();
-    Statement(connection, "INSERT INTO schema_migrations (version, name, applied_ns) VALUES (?, ?, ?)")
-        .Bind(1, static_cast<std::int64_t>(m.version))
-        .Bind(2, std::string_view(m.name))
-        .Bind(3, static_cast<std::int64_t>(now_ns))
-        .Run();
+    RecordMigration(connection, m);
     connection.Exec("PRAGMA user_version = " + std::to_string(m.version));
     tx.Commit();
     if (foreign_keys_off) {

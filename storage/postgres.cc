@@ -1,5 +1,6 @@
 #include "storage/postgres.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdlib>
 #include <cstring>
@@ -43,6 +44,16 @@ std::string DecodePgBytea(const char* text, int length) {
   return out;
 }
 
+// Whether `sql` (placeholders already as $k) names parameter k ("$1" is not named by "$12").
+bool NamesParameter(const std::string& sql, int k) {
+  const std::string mark = '$' + std::to_string(k);
+  for (std::size_t at = sql.find(mark); at != std::string::npos; at = sql.find(mark, at + 1)) {
+    const std::size_t after = at + mark.size();
+    if (after == sql.size() || sql[after] < '0' || sql[after] > '9') return true;
+  }
+  return false;
+}
+
 // One statement of a PostgreSQL connection: parameters are collected by Bind, the statement runs at the first Step,
 // and the rows of its result are walked by the following ones.
 class PostgresCursor final : public Cursor {
@@ -54,6 +65,12 @@ class PostgresCursor final : public Cursor {
     null_.assign(count, true);
     types_.assign(count, 0);
     formats_.assign(count, 0);
+    // A number the text skips (?1, ?2, ?5 when optional filters are absent) is declared text: PostgreSQL refuses a
+    // parameter whose type it cannot infer from any use, and SQLite ignores such gaps.
+    for (int k = 1; k <= count; ++k) {
+      if (!NamesParameter(sql_, k)) unused_.push_back(k - 1);
+    }
+    for (const int k : unused_) types_[k] = kPgText;
   }
   ~PostgresCursor() override { PQclear(result_); }
 
@@ -68,7 +85,7 @@ class PostgresCursor final : public Cursor {
   void BindNull(int i) override {
     Check(i);
     null_[i - 1] = true;
-    types_[i - 1] = 0;
+    types_[i - 1] = std::find(unused_.begin(), unused_.end(), i - 1) != unused_.end() ? kPgText : 0;
   }
 
   bool Step() override {
@@ -126,6 +143,7 @@ class PostgresCursor final : public Cursor {
   std::vector<bool> null_;
   std::vector<Oid> types_;
   std::vector<int> formats_;
+  std::vector<int> unused_;  // 0-based positions the text never names
   PGresult* result_ = nullptr;
   int row_ = -1;
 };
@@ -169,8 +187,8 @@ std::pair<std::string, int> PostgresPlaceholders(std::string_view sql) {
   return {out, highest};
 }
 
-PostgresConnection::PostgresConnection(const std::string& uri, const ConnectionOptions& options) : uri_(uri) {
-  (void)options;
+PostgresConnection::PostgresConnection(const std::string& uri, const ConnectionOptions& options)
+    : uri_(uri), options_(options) {
   try {
     EnsureConnected();
   } catch (...) {
@@ -202,7 +220,12 @@ void PostgresConnection::EnsureConnected() const {
     throw Error(ErrorCode::kUnavailable, std::string("the PostgreSQL server cannot be reached for now, retry later: ") +
                                              (conn_ ? PQerrorMessage(conn_) : "out of memory"));
   }
-  PGresult* r = PQexec(conn_, "SET client_min_messages = warning");
+  // The session as the SQLite engine's: waits for a lock at most busy_timeout_ms (then 55P03, kOverloaded), a
+  // reader cannot write, and notices (e.g. of CREATE ... IF NOT EXISTS) stay out of the server's log.
+  std::string setup = "SET client_min_messages = warning; SET lock_timeout = " +
+                      std::to_string(std::max(0, options_.busy_timeout_ms)) + ";";
+  if (options_.read_only) setup += " SET default_transaction_read_only = on;";
+  PGresult* r = PQexec(conn_, setup.c_str());
   PQclear(r);
 }
 
@@ -217,6 +240,16 @@ void PostgresConnection::ThrowResult(PGresult* result, std::string_view what) co
   if (code == ErrorCode::kUnavailable) message = "storage is unavailable for now, retry later: " + message;
   if (code == ErrorCode::kInsufficientStorage) message = "the disk is full: " + message;
   throw Error(code, message);
+}
+
+void PostgresConnection::BeginWrite() {
+  Exec("BEGIN");
+  try {
+    Exec("SELECT pg_advisory_xact_lock(7020658169314698338)");  // "anchordb" read as ASCII, as one 63-bit key
+  } catch (...) {
+    EndStuckTransaction();
+    throw;
+  }
 }
 
 void PostgresConnection::Exec(std::string_view sql) {

@@ -18,9 +18,6 @@
 
 namespace anchordb::storage {
 
-// True when `location` is a libpq connection URI (postgresql:// or postgres://).
-bool IsPostgresUri(std::string_view location);
-
 // `?` and `?N` placeholders outside quoted literals become `$k`; answers the text and the number of parameters.
 std::pair<std::string, int> PostgresPlaceholders(std::string_view sql);
 
@@ -35,7 +32,12 @@ class PostgresConnection final : public Connection {
   bool InTransaction() const override;
   void EndStuckTransaction() override;
   void Interrupt() override;
-  void BeginWrite() override { Exec("BEGIN"); }
+  // A write transaction takes the database's writer lock first (a transaction-scoped advisory lock, released by
+  // the commit or rollback, or by the server when the session dies), as SQLite's BEGIN IMMEDIATE does: writers
+  // (the store's, a job's own connection, another server) are serialised, so read-then-write rules hold and ids
+  // commit in the order they were given (an event stream's Last-Event-ID never skips a late commit). Waiting longer
+  // than busy_timeout_ms fails as kOverloaded.
+  void BeginWrite() override;
   void BeginRead() override { Exec("BEGIN ISOLATION LEVEL REPEATABLE READ READ ONLY"); }
   void EndRead() override { Exec("ROLLBACK"); }
 
@@ -52,6 +54,7 @@ class PostgresConnection final : public Connection {
   [[noreturn]] void ThrowResult(PGresult* result, std::string_view what) const;
 
   std::string uri_;
+  ConnectionOptions options_;
   mutable PGconn* conn_ = nullptr;
   mutable std::mutex cancel_mutex_;  // Interrupt runs on another thread
   mutable PGcancel* cancel_ = nullptr;

@@ -1,5 +1,7 @@
 #include "storage/repositories.h"
 
+#include "storage/dialect.h"
+
 #include "schema/error.h"
 
 namespace anchordb::storage {
@@ -55,7 +57,7 @@ void InsertLayer(Connection& c, const LayerRecord& l, const std::vector<std::str
   if (l.data.empty()) s.BindNull(5); else s.BindBlob(5, l.data);
   s.Bind(6, l.version).Bind(7, l.created_ns).Bind(8, l.updated_ns).Run();
   for (const std::string& d : depends_on) {
-    Statement(c, "INSERT OR IGNORE INTO layer_dependencies (map_id, layer, depends_on) VALUES (?, ?, ?)")
+    Statement(c, "INSERT INTO layer_dependencies (map_id, layer, depends_on) VALUES (?, ?, ?) ON CONFLICT DO NOTHING")
         .Bind(1, l.map_id).Bind(2, l.name).Bind(3, d).Run();
   }
 }
@@ -153,11 +155,12 @@ std::optional<Agent> FindAgent(Connection& c, const std::string& map_id, const s
 std::vector<Agent> ListAgents(Connection& c, const std::string& map_id, const std::optional<Bbox>& bbox) {
   std::vector<Agent> out;
   if (bbox) {
-    // The R*Tree narrows by box (its float bounds are conservative); the exact test follows on the row.
-    Statement s(c, "SELECT a.id, a.x_m, a.y_m, a.heading_rad, a.vx_mps, a.vy_mps, a.stamp_ns FROM agents_rtree r "
-                   "JOIN agents a ON a.rowid_key = r.rowid_key WHERE r.min_x <= ? AND r.max_x >= ? AND r.min_y <= ? "
-                   "AND r.max_y >= ? AND a.map_id = ? AND a.x_m BETWEEN ? AND ? AND a.y_m BETWEEN ? AND ? ORDER BY a.id");
-    s.Bind(1, bbox->max_x).Bind(2, bbox->min_x).Bind(3, bbox->max_y).Bind(4, bbox->min_y).Bind(5, map_id)
+    // The spatial index narrows by box (SQLite's R*Tree has conservative float bounds); the exact test follows.
+    const std::string in_box = PointInBox(c.engine(), {"agents_rtree", "rowid_key", "a.rowid_key", "a.x_m", "a.y_m", ""},
+                                          {"?", "?", "?", "?", "", ""});
+    Statement s(c, "SELECT a.id, a.x_m, a.y_m, a.heading_rad, a.vx_mps, a.vy_mps, a.stamp_ns FROM agents a "
+                   "WHERE a.map_id = ? AND " + in_box + " AND a.x_m BETWEEN ? AND ? AND a.y_m BETWEEN ? AND ? ORDER BY a.id");
+    s.Bind(1, map_id).Bind(2, bbox->max_x).Bind(3, bbox->max_y).Bind(4, bbox->min_x).Bind(5, bbox->min_y)
         .Bind(6, bbox->min_x).Bind(7, bbox->max_x).Bind(8, bbox->min_y).Bind(9, bbox->max_y);
     while (s.Step()) out.push_back(ReadAgentRow(s));
   } else {

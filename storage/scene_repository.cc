@@ -1,5 +1,7 @@
 #include "storage/scene_repository.h"
 
+#include "storage/dialect.h"
+
 #include "schema/error.h"
 
 namespace anchordb::storage {
@@ -62,8 +64,8 @@ std::vector<SceneRecord> ListScenes(Connection& c, const std::string& map_id, co
   std::string sql = std::string("SELECT ") + kSceneColumns + " FROM scene_models m WHERE map_id = ?1";
   if (f.status) sql += " AND status = ?2";
   if (f.near_m) {
-    sql += " AND id IN (SELECT id FROM scene_models_rtree WHERE min_x <= ?3 + ?6 AND max_x >= ?3 - ?6 AND "
-           "min_y <= ?4 + ?6 AND max_y >= ?4 - ?6 AND min_z <= ?5 + ?6 AND max_z >= ?5 - ?6)"
+    sql += " AND " + PointInBox(c.engine(), {"scene_models_rtree", "id", "m.id", "m.x_m", "m.y_m", "m.z_m"},
+                                {"?3 + ?6", "?4 + ?6", "?3 - ?6", "?4 - ?6", "?5 + ?6", "?5 - ?6"}) +
            " AND (x_m - ?3) * (x_m - ?3) + (y_m - ?4) * (y_m - ?4) + (z_m - ?5) * (z_m - ?5) <= ?6 * ?6";
   }
   sql += " ORDER BY id DESC LIMIT ?7";

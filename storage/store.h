@@ -1,7 +1,8 @@
 #pragma once
-// The SQLite store: one writer connection (writes are serialised and each runs in one BEGIN IMMEDIATE
-// transaction that is committed before the call returns) and a pool of reader connections (WAL lets them read
-// while a write is in progress). Opening migrates the file to the newest schema.
+// The store over either engine (a SQLite file path or a PostgreSQL URI, storage/connection.h): one writer
+// connection (writes are serialised and each runs in one write transaction that is committed before the call
+// returns) and a pool of reader connections (SQLite's WAL or PostgreSQL's MVCC lets them read while a write is in
+// progress). Opening migrates the database to the newest schema of its engine (migrations/<engine>/).
 #include <condition_variable>
 #include <functional>
 #include <memory>

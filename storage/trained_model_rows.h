@@ -13,7 +13,9 @@ namespace anchordb::storage::trained_models {
 
 template <typename Record>
 void Upsert(Connection& c, const std::string& table, const Record& r) {
-  Statement s(c, "INSERT OR REPLACE INTO " + table + " (name, created_ns, model, request_json, report_json) VALUES (?, ?, ?, ?, ?)");
+  Statement s(c, "INSERT INTO " + table + " (name, created_ns, model, request_json, report_json) VALUES (?, ?, ?, ?, ?) "
+                 "ON CONFLICT (name) DO UPDATE SET created_ns = excluded.created_ns, model = excluded.model, "
+                 "request_json = excluded.request_json, report_json = excluded.report_json");
   s.Bind(1, r.name).Bind(2, r.created_ns).BindBlob(3, EncodeBlob(BlobElement::kU8, {static_cast<std::uint32_t>(r.model.size())}, r.model));
   s.Bind(4, r.request_json).Bind(5, r.report_json);
   s.Run();

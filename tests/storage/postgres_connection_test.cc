@@ -17,47 +17,13 @@
 
 #include "schema/error.h"
 #include "storage/connection.h"
-#include "tests/support/temp_dir.h"
+#include "tests/support/pg_scratch.h"
 
 namespace anchordb::storage {
 namespace {
 
-// A scratch server for this suite: `scripts/pg-scratch start` in a temporary folder, stopped (by its PID) and
-// removed at the end.
-class ScratchServer {
- public:
-  ScratchServer() : dir_(temp_.File("pg")) {
-    script_ = ANCHORDB_PG_SCRATCH;
-    if (std::system((script_ + " start " + dir_ + " > " + temp_.File("start.log") + " 2>&1").c_str()) != 0) {
-      std::ifstream log(temp_.File("start.log"));
-      throw std::runtime_error("pg-scratch start failed: " + std::string(std::istreambuf_iterator<char>(log), {}));
-    }
-    std::ifstream env(dir_ + "/pg.env");
-    for (std::string line; std::getline(env, line);) {
-      const auto eq = line.find('=');
-      if (eq != std::string::npos) env_[line.substr(0, eq)] = line.substr(eq + 1);
-    }
-  }
-  ~ScratchServer() { std::system((script_ + " stop " + dir_ + " > /dev/null 2>&1").c_str()); }
-
-  // The URI without TLS or GSSAPI negotiation (the scratch server offers neither).
-  std::string Uri() const { return env_.at("ANCHORDB_PG_URI") + "?sslmode=disable&gssencmode=disable"; }
-  // pg_ctl on this server's data folder, as the user the server runs as.
-  int PgCtl(const std::string& args) const {
-    const std::string as = getuid() == 0 ? "runuser -u postgres -- " : "";
-    return std::system((as + "/usr/lib/postgresql/15/bin/pg_ctl -D " + dir_ + "/data -l " + dir_ +
-                        "/data/server.log -w -t 60 " + args + " > /dev/null 2>&1").c_str());
-  }
-  std::string StartOptions() const {
-    return "-o \"-p " + env_.at("PGPORT") + " -k " + env_.at("PGHOST") + " -c listen_addresses=127.0.0.1\"";
-  }
-
- private:
-  testing::TempDir temp_;
-  std::string dir_;
-  std::string script_;
-  std::map<std::string, std::string> env_;
-};
+// This suite stops and restarts its server: it has one of its own (tests/support/pg_scratch.h), not the shared one.
+using ScratchServer = testing::PgScratch;
 
 class PostgresConnectionTest : public ::testing::Test {
  protected:

@@ -1,4 +1,6 @@
-// The SQLite store on real files: migrations, repositories, cascades, the R*Tree index, restart round trips.
+// The store on real databases: migrations, repositories, cascades, the spatial index, restart round trips. Tests of
+// StoreEngineTest run on both engines (a SQLite file; a database on a scratch PostgreSQL 15); the PRAGMA and
+// table-rebuild tests are SQLite's own.
 #include "storage/sqlite.h"
 #include "storage/store.h"
 
@@ -8,6 +10,7 @@
 #include "storage/blob_codec.h"
 #include "storage/migrations.h"
 #include "storage/repositories.h"
+#include "tests/support/pg_scratch.h"
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::storage {
@@ -31,22 +34,27 @@ LayerRecord Layer(const std::string& map, const std::string& name, std::string d
   return l;
 }
 
-TEST(MigrationsTest, AppliedInOrderRecordedAndNotReapplied) {
-  testing::TempDir dir;
-  const std::string path = dir.File("db.sqlite");
+class StoreEngineTest : public ::testing::TestWithParam<Engine> {
+ protected:
+  testing::TestDatabase db_{GetParam()};
+};
+INSTANTIATE_TEST_SUITE_P(Engines, StoreEngineTest, testing::BothEngines(), testing::EngineName);
+
+TEST_P(StoreEngineTest, MigrationsAppliedInOrderRecordedAndNotReapplied) {
+  const std::string path = db_.location();
   {
     Store store(OptionsFor(path));
     const auto& r = store.migration_report();
     EXPECT_EQ(r.from_version, 0);
-    EXPECT_EQ(r.to_version, EmbeddedMigrations().back().version);
-    EXPECT_EQ(r.applied.size(), EmbeddedMigrations().size());
+    EXPECT_EQ(r.to_version, EmbeddedMigrations(GetParam()).back().version);
+    EXPECT_EQ(r.applied.size(), EmbeddedMigrations(GetParam()).size());
     const auto names = store.Read([](Connection& c) {
       std::vector<std::string> v;
       Statement s(c, "SELECT name FROM schema_migrations ORDER BY version");
       while (s.Step()) v.push_back(s.Text(0));
       return v;
     });
-    ASSERT_EQ(names.size(), EmbeddedMigrations().size());
+    ASSERT_EQ(names.size(), EmbeddedMigrations(GetParam()).size());
     EXPECT_EQ(names.front(), "0001_init.sql");
   }
   Store again(OptionsFor(path));
@@ -94,7 +102,7 @@ TEST(MigrationsTest, FailingMigrationRollsBackAndKeepsVersion) {
 TEST(MigrationsTest, TheEventsRebuildKeepsRowsReferencesAndTheIdHighWaterMark) {
   testing::TempDir dir;
   SqliteConnection c(dir.File("db.sqlite"), {});
-  std::vector<Migration> before, all = EmbeddedMigrations();
+  std::vector<Migration> before, all = EmbeddedMigrations(Engine::kSqlite);
   for (const Migration& m : all) {
     if (m.version < 16) before.push_back(m);
   }
@@ -184,9 +192,8 @@ TEST(StoreTest, PragmasAreSet) {
   EXPECT_EQ(store.IntegrityCheck(), "ok");
 }
 
-TEST(StoreTest, MapsLayersAgentsAndCascadingDelete) {
-  testing::TempDir dir;
-  Store store(OptionsFor(dir.File("db.sqlite")));
+TEST_P(StoreEngineTest, MapsLayersAgentsAndCascadingDelete) {
+  Store store(OptionsFor(db_.location()));
   store.Write([](Connection& c) {
     InsertMap(c, {"home", "Home", 1});
     InsertMap(c, {"office", "Office", 2});
@@ -214,17 +221,16 @@ TEST(StoreTest, MapsLayersAgentsAndCascadingDelete) {
     EXPECT_FALSE(FindMap(c, "home"));
     EXPECT_TRUE(ListLayers(c, "home").empty());
     EXPECT_FALSE(FindAgent(c, "home", "anna"));
-    Statement s(c, "SELECT count(*) FROM agents_rtree");
+    Statement s(c, GetParam() == Engine::kSqlite ? "SELECT count(*) FROM agents_rtree" : "SELECT count(*) FROM agents");
     s.Step();
-    EXPECT_EQ(s.Int(0), 0);  // the spatial index follows the cascade
+    EXPECT_EQ(s.Int(0), 0);  // the spatial index follows the cascade (SQLite's R*Tree is a table of its own)
     EXPECT_TRUE(FindMap(c, "office").has_value());
     return 0;
   });
 }
 
-TEST(StoreTest, OptimisticVersionCheckOnLayerUpdate) {
-  testing::TempDir dir;
-  Store store(OptionsFor(dir.File("db.sqlite")));
+TEST_P(StoreEngineTest, OptimisticVersionCheckOnLayerUpdate) {
+  Store store(OptionsFor(db_.location()));
   store.Write([](Connection& c) {
     InsertMap(c, {"m", "m", 1});
     InsertLayer(c, Layer("m", "l", "v1"), {});
@@ -236,9 +242,8 @@ TEST(StoreTest, OptimisticVersionCheckOnLayerUpdate) {
   EXPECT_EQ(store.Read([](Connection& c) { return FindLayer(c, "m", "l", true)->data; }), "v2");
 }
 
-TEST(StoreTest, FailedWriteRollsBackEverything) {
-  testing::TempDir dir;
-  Store store(OptionsFor(dir.File("db.sqlite")));
+TEST_P(StoreEngineTest, FailedWriteRollsBackEverything) {
+  Store store(OptionsFor(db_.location()));
   EXPECT_THROW(store.Write([](Connection& c) {
                  InsertMap(c, {"m", "m", 1});
                  throw Error(ErrorCode::kUnprocessable, "changed my mind");
@@ -247,9 +252,8 @@ TEST(StoreTest, FailedWriteRollsBackEverything) {
   EXPECT_FALSE(store.Read([](Connection& c) { return FindMap(c, "m").has_value(); }));
 }
 
-TEST(StoreTest, ConstraintViolationsAreConflictsExceptChecksWhichAreBugs) {
-  testing::TempDir dir;
-  Store store(OptionsFor(dir.File("db.sqlite")));
+TEST_P(StoreEngineTest, ConstraintViolationsAreConflictsExceptChecksWhichAreBugs) {
+  Store store(OptionsFor(db_.location()));
   const auto code_of = [&](const std::string& sql) {
     try {
       store.Write([&](Connection& c) { Statement(c, sql).Run(); });
@@ -266,9 +270,8 @@ TEST(StoreTest, ConstraintViolationsAreConflictsExceptChecksWhichAreBugs) {
             ErrorCode::kInternal);  // NOT NULL
 }
 
-TEST(StoreTest, RTreeBoundingBoxQuery) {
-  testing::TempDir dir;
-  Store store(OptionsFor(dir.File("db.sqlite")));
+TEST_P(StoreEngineTest, SpatialIndexBoundingBoxQuery) {
+  Store store(OptionsFor(db_.location()));
   store.Write([](Connection& c) {
     InsertMap(c, {"m", "m", 1});
     for (int i = 0; i < 20; ++i) {
@@ -291,9 +294,8 @@ TEST(StoreTest, RTreeBoundingBoxQuery) {
   EXPECT_EQ(far[0].id, "a0");
 }
 
-TEST(StoreTest, RestartRoundTripIsByteIdentical) {
-  testing::TempDir dir;
-  const std::string path = dir.File("db.sqlite");
+TEST_P(StoreEngineTest, RestartRoundTripIsByteIdentical) {
+  const std::string path = db_.location();
   std::vector<float> cells(400 * 400);
   for (std::size_t i = 0; i < cells.size(); ++i) cells[i] = static_cast<float>((i * 7919) % 1000) / 100.0f - 5.0f;
   const std::string blob = EncodeBlob(BlobElement::kF32, {400, 400}, AsBytes(cells), 1);
@@ -311,9 +313,8 @@ TEST(StoreTest, RestartRoundTripIsByteIdentical) {
   EXPECT_EQ(DecodeBlob(back->data).bytes, std::string(AsBytes(cells)));
 }
 
-TEST(StoreTest, TokensByIdAndAll) {
-  testing::TempDir dir;
-  Store store(OptionsFor(dir.File("db.sqlite")));
+TEST_P(StoreEngineTest, TokensByIdAndAll) {
+  Store store(OptionsFor(db_.location()));
   store.Write([](Connection& c) { InsertToken(c, {"t1", "abc", "writer", 1}); });
   EXPECT_THROW(store.Write([](Connection& c) { InsertToken(c, {"t2", "def", "root", 1}); }), Error);
   store.Read([](Connection& c) {
@@ -325,6 +326,33 @@ TEST(StoreTest, TokensByIdAndAll) {
     EXPECT_EQ(all.empty() ? "" : all[0].role, "writer");
     return 0;
   });
+}
+
+// PostgreSQL: a database of a newer schema is refused untouched; a failing file leaves nothing (transactional DDL).
+TEST(PostgresMigrationsTest, NewerDatabaseIsRefusedAndAFailingFileChangesNothing) {
+  testing::TestDatabase db(Engine::kPostgresql);
+  {
+    const auto c = OpenConnection(db.location(), {});
+    c->Exec("CREATE TABLE schema_migrations (version BIGINT PRIMARY KEY, name TEXT NOT NULL, applied_ns BIGINT NOT NULL);"
+            "INSERT INTO schema_migrations VALUES (999, '0999_future.sql', 1)");
+  }
+  try {
+    Store store(OptionsFor(db.location()));
+    FAIL() << "a database from a newer version was opened";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kConflict);
+    EXPECT_NE(std::string(e.what()).find("999"), std::string::npos);
+  }
+  const auto c = OpenConnection(db.location(), {});
+  EXPECT_EQ(UserVersion(*c), 999);
+  c->Exec("DELETE FROM schema_migrations");
+  const std::vector<Migration> migrations = {{1, "0001_ok.sql", "CREATE TABLE a (x BIGINT);"},
+                                             {2, "0002_bad.sql", "CREATE TABLE b (x BIGINT); THIS IS NOT SQL;"}};
+  EXPECT_THROW(ApplyMigrations(*c, migrations), Error);
+  EXPECT_EQ(UserVersion(*c), 0);  // all pending files run in one transaction: the good one went with the bad one
+  Statement s(*c, "SELECT count(*) FROM pg_tables WHERE tablename IN ('a', 'b')");
+  s.Step();
+  EXPECT_EQ(s.Int(0), 0);
 }
 
 }  // namespace
