@@ -112,6 +112,7 @@ class PostgresCursor final : public Cursor {
   double Double(int c) const override { return std::strtod(Value(c), nullptr); }
   std::string Text(int c) const override { return std::string(Value(c), PQgetlength(result_, row_, c)); }
   std::string Blob(int c) const override {
+    if (IsNull(c)) return {};  // as SQLite: a NULL reads as no bytes
     if (PQftype(result_, c) != kPgBytea) return Text(c);
     return DecodePgBytea(Value(c), PQgetlength(result_, row_, c));
   }

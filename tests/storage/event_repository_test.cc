@@ -6,18 +6,20 @@
 
 #include "schema/error.h"
 
+#include "storage/dialect.h"
 #include "storage/repositories.h"
 #include "storage/store.h"
+#include "tests/support/pg_scratch.h"
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::storage {
 namespace {
 
-class EventRepositoryTest : public ::testing::Test {
+class EventRepositoryTest : public ::testing::TestWithParam<Engine> {
  protected:
   void SetUp() override {
     StoreOptions o;
-    o.path = dir_.File("db.sqlite");
+    o.path = db_.location();
     o.reader_connections = 1;
     store_ = std::make_unique<Store>(o);
     store_->Write([](Connection& c) {
@@ -42,11 +44,13 @@ class EventRepositoryTest : public ::testing::Test {
     });
   }
 
-  testing::TempDir dir_;
+  testing::TestDatabase db_{GetParam()};
   std::unique_ptr<Store> store_;
 };
 
-TEST_F(EventRepositoryTest, LabelIndexFollowsEveryChangeOfTheLabels) {
+INSTANTIATE_TEST_SUITE_P(Engines, EventRepositoryTest, testing::BothEngines(), testing::EngineName);
+
+TEST_P(EventRepositoryTest, LabelIndexFollowsEveryChangeOfTheLabels) {
   const auto [keys, cup, elsewhere] = store_->Write([](Connection& c) {
     return std::make_tuple(InsertInstance(c, Object("home", R"({"keys":2.0,"wallet":1.0})")),
                            InsertInstance(c, Object("home", R"({"cup":1.0})")),
@@ -69,15 +73,16 @@ TEST_F(EventRepositoryTest, LabelIndexFollowsEveryChangeOfTheLabels) {
   EXPECT_TRUE(WithLabel("home", "cup").empty());
   // The index equals the JSON for every instance.
   const auto mismatches = store_->Read([](Connection& c) {
-    Statement s(c, "SELECT COUNT(*) FROM (SELECT i.id, j.key FROM instances i, json_each(i.labels) j EXCEPT "
-                   "SELECT instance_id, label FROM instance_labels) ");
+    Statement s(c, "SELECT COUNT(*) FROM (SELECT i.id, j.key FROM instances i, " +
+                       JsonObjectEntries(c.engine(), "i.labels") +
+                       " AS j EXCEPT SELECT instance_id, label FROM instance_labels) AS mismatch");
     s.Step();
     return s.Int(0);
   });
   EXPECT_EQ(mismatches, 0);
 }
 
-TEST_F(EventRepositoryTest, HistoryAtATimeAndEventsWithEvidence) {
+TEST_P(EventRepositoryTest, HistoryAtATimeAndEventsWithEvidence) {
   const std::int64_t id = store_->Write([](Connection& c) {
     const std::int64_t i = InsertInstance(c, Object("home", "{}"));
     AppendHistory(c, {i, 0, 100, true, {1, 2, 3}, std::nullopt});

@@ -7,18 +7,19 @@
 #include "storage/repositories.h"
 #include "storage/scene_repository.h"
 #include "storage/store.h"
+#include "tests/support/pg_scratch.h"
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::storage {
 namespace {
 
-class FeatureRepositoryTest : public ::testing::Test {
+class FeatureRepositoryTest : public ::testing::TestWithParam<Engine> {
  protected:
   void SetUp() override { Open(); }
   void Open() {
     store_.reset();
     StoreOptions o;
-    o.path = dir_.File("db.sqlite");
+    o.path = db_.location();
     o.reader_connections = 1;
     store_ = std::make_unique<Store>(o);
   }
@@ -35,7 +36,11 @@ class FeatureRepositoryTest : public ::testing::Test {
   }
   std::int64_t AnchorRows() {
     return store_->Read([](Connection& c) {
-      Statement s(c, "SELECT COUNT(*) FROM feature_anchors");
+      // SQLite: rows of the R*-tree table (kept by triggers); PostgreSQL: rows found through the GiST point index.
+      Statement s(c, c.engine() == Engine::kSqlite
+                         ? "SELECT COUNT(*) FROM feature_anchors"
+                         : "SELECT COUNT(*) FROM features WHERE point(x_m, y_m) <@ box(point(1e300, 1e300), "
+                           "point(-1e300, -1e300))");
       s.Step();
       return s.Int(0);
     });
@@ -54,11 +59,13 @@ class FeatureRepositoryTest : public ::testing::Test {
     });
   }
 
-  testing::TempDir dir_;
+  testing::TestDatabase db_{GetParam()};
   std::unique_ptr<Store> store_;
 };
 
-TEST_F(FeatureRepositoryTest, SpatialAndTimeQueriesAndCascades) {
+INSTANTIATE_TEST_SUITE_P(Engines, FeatureRepositoryTest, testing::BothEngines(), testing::EngineName);
+
+TEST_P(FeatureRepositoryTest, SpatialAndTimeQueriesAndCascades) {
   store_->Write([](Connection& c) { InsertMap(c, {"home", "home", 1}); });
   const std::int64_t kf = Keyframe();
   store_->Write([&](Connection& c) {
@@ -104,7 +111,7 @@ TEST_F(FeatureRepositoryTest, SpatialAndTimeQueriesAndCascades) {
   EXPECT_EQ(AnchorRows(), 0);
 }
 
-TEST_F(FeatureRepositoryTest, CodebooksAndClassifiersSurviveAReopen) {
+TEST_P(FeatureRepositoryTest, CodebooksAndClassifiersSurviveAReopen) {
   store_->Write([](Connection& c) {
     InsertMap(c, {"home", "home", 1});
     CodebookRecord b;

@@ -1,5 +1,6 @@
 #pragma once
-// Internal to tests/storage/forgetting*_test.cc: a store on a real SQLite file with one map ("home"), builders for
+// Internal to tests/storage/forgetting*_test.cc: a store on either engine (a SQLite file or a scratch PostgreSQL
+// database) with one map ("home"), builders for
 // scene models, keyframes, segments, instances and events at chosen ages, dumps of every row, and Forget run at kNow.
 #include <gtest/gtest.h>
 
@@ -14,9 +15,8 @@
 #include "storage/forgetting.h"
 #include "storage/repositories.h"
 #include "storage/scene_repository.h"
-#include "storage/sqlite.h"
 #include "storage/store.h"
-#include "tests/support/temp_dir.h"
+#include "tests/support/pg_scratch.h"
 
 namespace anchordb::storage::forget_test {
 
@@ -24,21 +24,27 @@ constexpr std::int64_t kSecond = 1000000000LL;
 constexpr std::int64_t kDay = 86400 * kSecond;
 constexpr std::int64_t kNow = 20000 * kDay;
 
-// Every row of every table (rtree shadow tables included), sorted: equal dumps mean nothing changed.
+// Every row of every table (SQLite's rtree shadow tables included), sorted: equal dumps mean nothing changed.
 inline std::string DumpAll(Connection& c) {
+  const bool sqlite = c.engine() == Engine::kSqlite;
   std::vector<std::string> tables;
   {
-    Statement s(c, "SELECT name FROM sqlite_master WHERE type = 'table' AND sql NOT LIKE 'CREATE VIRTUAL%' ORDER BY name");
+    Statement s(c, sqlite ? "SELECT name FROM sqlite_master WHERE type = 'table' AND sql NOT LIKE 'CREATE VIRTUAL%' "
+                            "ORDER BY name"
+                          : "SELECT tablename FROM pg_tables WHERE schemaname = current_schema() ORDER BY tablename");
     while (s.Step()) tables.push_back(s.Text(0));
   }
   std::string out;
   for (const std::string& t : tables) {
-    std::string columns;
-    Statement info(c, "SELECT name FROM pragma_table_info(?)");
-    info.Bind(1, t);
-    while (info.Step()) columns += (columns.empty() ? "quote(\"" : " || ',' || quote(\"") + info.Text(0) + "\")";
+    std::string row = "row_to_json(t)::text";
+    if (sqlite) {
+      row.clear();
+      Statement info(c, "SELECT name FROM pragma_table_info(?)");
+      info.Bind(1, t);
+      while (info.Step()) row += (row.empty() ? "quote(\"" : " || ',' || quote(\"") + info.Text(0) + "\")";
+    }
     std::vector<std::string> rows;
-    Statement s(c, "SELECT " + columns + " FROM \"" + t + "\"");
+    Statement s(c, "SELECT " + row + " FROM \"" + t + "\" AS t");
     while (s.Step()) rows.push_back(s.Text(0));
     std::sort(rows.begin(), rows.end());
     out += "[" + t + "]\n";
@@ -47,7 +53,10 @@ inline std::string DumpAll(Connection& c) {
   return out;
 }
 
+// Rows whose foreign key points nowhere. PostgreSQL checks every foreign key at the statement (none is deferred), so
+// a dangling row cannot exist there and the check is SQLite's alone.
 inline std::string ForeignKeyCheck(Connection& c) {
+  if (c.engine() != Engine::kSqlite) return "";
   Statement s(c, "PRAGMA foreign_key_check");
   std::string out;
   while (s.Step()) out += s.Text(0) + " rowid " + std::to_string(s.Int(1)) + " -> " + s.Text(2) + "; ";
@@ -59,11 +68,11 @@ inline std::int64_t Count(Connection& c, const std::string& sql) {
   return s.Step() ? s.Int(0) : -1;
 }
 
-class ForgetFixture : public ::testing::Test {
+class ForgetFixture : public ::testing::TestWithParam<Engine> {
  protected:
   void SetUp() override {
     StoreOptions o;
-    o.path = dir_.File("db.sqlite");
+    o.path = db_.location();
     o.reader_connections = 1;
     store_ = std::make_unique<Store>(o);
     store_->Write([](Connection& c) { InsertMap(c, {"home", "test", 1}); });
@@ -162,11 +171,11 @@ class ForgetFixture : public ::testing::Test {
 
   ForgetReport Run(const ForgetPolicy& policy, bool dry_run, const ForgetProgress& progress = {},
                    const ForgetBeforeCommit& before_commit = {}) {
-    SqliteConnection c(store_->path(), {});
-    return Forget(c, "home", policy, kNow, dry_run, progress, before_commit);
+    auto c = OpenConnection(store_->path(), {});
+    return Forget(*c, "home", policy, kNow, dry_run, progress, before_commit);
   }
 
-  testing::TempDir dir_;
+  testing::TestDatabase db_{GetParam()};
   std::unique_ptr<Store> store_;
   std::mt19937 rng_{7};
 };

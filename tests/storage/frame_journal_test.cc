@@ -8,6 +8,7 @@
 #include "storage/repositories.h"
 #include "storage/scene_repository.h"
 #include "storage/store.h"
+#include "tests/support/pg_scratch.h"
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::storage {
@@ -47,9 +48,14 @@ void ExpectSame(const JournalFrame& a, const JournalFrame& b) {
   EXPECT_EQ(a.model_after_json, b.model_after_json);
 }
 
-TEST(FrameJournalTest, AppendReadBackAcrossReopenTrimAndDelete) {
-  testing::TempDir dir;
-  const std::string path = dir.File("journal.sqlite");
+class FrameJournalTest : public ::testing::TestWithParam<Engine> {
+ protected:
+  testing::TestDatabase db_{GetParam()};
+};
+INSTANTIATE_TEST_SUITE_P(Engines, FrameJournalTest, testing::BothEngines(), testing::EngineName);
+
+TEST_P(FrameJournalTest, AppendReadBackAcrossReopenTrimAndDelete) {
+  const std::string path = db_.location();
   std::int64_t scene = 0, other = 0;
   {
     Store store(StoreOptions{path});
@@ -92,9 +98,8 @@ TEST(FrameJournalTest, AppendReadBackAcrossReopenTrimAndDelete) {
   EXPECT_EQ(store.Read([&](Connection& c) { return CountJournalFrames(c); }), 1);
 }
 
-TEST(FrameJournalTest, RowsGoWithTheirSceneModelAndTheirMap) {
-  testing::TempDir dir;
-  Store store(StoreOptions{dir.File("journal.sqlite")});
+TEST_P(FrameJournalTest, RowsGoWithTheirSceneModelAndTheirMap) {
+  Store store(StoreOptions{db_.location()});
   const std::int64_t a = AddScene(store, "home");
   const std::int64_t b = AddScene(store, "home");
   const std::int64_t c_other = AddScene(store, "office");

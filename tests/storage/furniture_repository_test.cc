@@ -6,15 +6,21 @@
 #include "schema/error.h"
 #include "storage/repositories.h"
 #include "storage/store.h"
+#include "tests/support/pg_scratch.h"
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::storage {
 namespace {
 
-TEST(FurnitureRepositoryTest, RoundTripAcrossReopenWithVersioningAndCascade) {
-  testing::TempDir dir;
+class FurnitureRepositoryTest : public ::testing::TestWithParam<Engine> {
+ protected:
+  testing::TestDatabase db_{GetParam()};
+};
+INSTANTIATE_TEST_SUITE_P(Engines, FurnitureRepositoryTest, testing::BothEngines(), testing::EngineName);
+
+TEST_P(FurnitureRepositoryTest, RoundTripAcrossReopenWithVersioningAndCascade) {
   StoreOptions so;
-  so.path = dir.File("db.sqlite");
+  so.path = db_.location();
   std::int64_t id = 0;
   const std::string blob("\x01\x00\x02hypotheses", 13);
   {

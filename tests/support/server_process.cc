@@ -6,14 +6,37 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <map>
+#include <mutex>
 #include <stdexcept>
 
+#include "tests/support/pg_scratch.h"
+
 namespace anchordb::testing {
+
+namespace {
+// With ANCHORDB_TEST_ENGINE=postgresql, each database path a test names becomes its own database on the process's
+// scratch PostgreSQL (the same path again, e.g. after a restart, the same database).
+std::string ServerLocation(const std::string& db_path) {
+  const char* engine = std::getenv("ANCHORDB_TEST_ENGINE");
+  if (!engine || std::string(engine) != "postgresql" || storage::IsPostgresUri(db_path)) return db_path;
+  static std::mutex mutex;
+  static std::map<std::string, std::string> databases;
+  std::lock_guard lock(mutex);
+  auto it = databases.find(db_path);
+  if (it == databases.end()) {
+    const std::string name = "http_" + std::to_string(getpid()) + "_" + std::to_string(databases.size() + 1);
+    storage::OpenConnection(SharedPgScratch().Uri("postgres"), {})->Exec("CREATE DATABASE " + name);
+    it = databases.emplace(db_path, SharedPgScratch().Uri(name)).first;
+  }
+  return it->second;
+}
+}  // namespace
 
 ServerProcess::ServerProcess(const std::string& db_path, std::vector<std::string> extra_args) {
   const char* bin = std::getenv("ANCHORDB_BIN");
   if (!bin) throw std::runtime_error("ANCHORDB_BIN is not set (ctest sets it to the built anchordb)");
-  std::vector<std::string> args = {bin, "serve", "--db", db_path, "--port", "0", "--log_requests=false"};
+  std::vector<std::string> args = {bin, "serve", "--db", ServerLocation(db_path), "--port", "0", "--log_requests=false"};
   args.insert(args.end(), extra_args.begin(), extra_args.end());
   int out[2];
   if (pipe(out) != 0) throw std::runtime_error("pipe failed");

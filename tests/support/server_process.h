@@ -1,6 +1,7 @@
 #pragma once
 // Starts the real `anchordb serve` binary on loopback (port 0) for HTTP tests and stops it: SIGTERM (graceful),
-// or SIGKILL (crash). The binary comes from $ANCHORDB_BIN.
+// or SIGKILL (crash). The binary comes from $ANCHORDB_BIN. With ANCHORDB_TEST_ENGINE=postgresql the server runs on a
+// database of a scratch PostgreSQL (tests/support/pg_scratch.h) instead of the SQLite file the test names.
 #include <string>
 #include <vector>
 
