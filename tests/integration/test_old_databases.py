@@ -31,7 +31,7 @@ sys.path.insert(0, DATA)
 import make_old_database as gen  # noqa: E402  (the reader shared with the generator)
 
 NEWEST = max(int(re.match(r"(\d+)_", os.path.basename(p)).group(1))
-             for p in glob.glob(os.path.join(ROOT, "migrations", "*.sql")))
+             for p in glob.glob(os.path.join(ROOT, "migrations", "sqlite", "*.sql")))
 
 
 def assert_reads_back(test, old, new, where):
