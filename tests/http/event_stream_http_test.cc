@@ -116,7 +116,9 @@ TEST_F(EventStreamHttpTest, ThousandEventsArriveOnceAndInOrderAcrossForcedReconn
       if (!last_id.empty()) headers.emplace("Last-Event-ID", last_id);
       ++connections;
       bool cut = false;
-      auto r = sse.Get("/v1/maps/home/events:stream", headers,
+      // Until a first message came, a reconnection must not start "after the newest event" (the default): a first
+      // connection that ended before any event (max_duration_s on a slow run) would lose the events written between.
+      auto r = sse.Get(last_id.empty() ? "/v1/maps/home/events:stream?after=0" : "/v1/maps/home/events:stream", headers,
           [&](const httplib::Response& response) {
             if (response.status != 200) failed = true, subscriber_error = "status " + std::to_string(response.status);
             subscribed = true;

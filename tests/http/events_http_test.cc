@@ -26,9 +26,8 @@ using nlohmann::json;
 
 // `anchordb token create --role <role> --db <db>`; returns the printed secret ("" when it failed).
 std::string CreateToken(const std::string& db, const std::string& role) {
-  const char* bin = std::getenv("ANCHORDB_BIN");
-  if (!bin) return "";
-  FILE* pipe = popen((std::string(bin) + " token create --role " + role + " --db " + db + " 2>&1").c_str(), "r");
+  const std::string bin = testing::AnchordbBin();
+  FILE* pipe = popen((std::string(bin) + " token create --role " + role + " --db '" + testing::DatabaseLocation(db) + "' 2>&1").c_str(), "r");
   if (!pipe) return "";
   std::string out;
   char buffer[1024];

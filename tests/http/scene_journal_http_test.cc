@@ -9,7 +9,7 @@
 #include "sim/apartment.h"
 #include "sim/renderer.h"
 #include "storage/frame_journal.h"
-#include "storage/sqlite.h"
+#include "storage/connection.h"
 #include "tests/support/server_process.h"
 #include "tests/support/temp_dir.h"
 
@@ -70,8 +70,7 @@ struct Server {
   std::int64_t JournalRows() {
     storage::ConnectionOptions o;
     o.read_only = true;
-    storage::SqliteConnection c(db_path, o);
-    return storage::CountJournalFrames(c);
+    return storage::CountJournalFrames(*storage::OpenConnection(testing::DatabaseLocation(db_path), o));
   }
 
   std::string db_path;

@@ -29,9 +29,8 @@ struct CommandResult {
 };
 
 CommandResult RunAnchordb(const std::string& args) {
-  const char* bin = std::getenv("ANCHORDB_BIN");
+  const std::string bin = testing::AnchordbBin();
   CommandResult r;
-  if (!bin) return r;
   FILE* pipe = popen((std::string(bin) + " " + args + " 2>&1").c_str(), "r");
   if (!pipe) return r;
   char buffer[4096];
@@ -91,7 +90,7 @@ class TumImportTest : public ::testing::Test {
     depth << std::fixed << kFirstStamp_s + 5.0 << " depth/lost.png\n";
     std::ofstream(seq_ + "/depth/lost.png", std::ios::binary)
         << engine::EncodeDepthPng(frames_[0].depth_mm, frames_[0].width, frames_[0].height);
-    db_ = dir_.File("tum.sqlite");
+    db_ = testing::DatabaseLocation(dir_.File("tum.sqlite"));
     StartServer();
     Ok("POST", "/v1/maps", R"({"id":"home","name":"rendered"})", 201);
     server_->Stop();
@@ -108,7 +107,7 @@ class TumImportTest : public ::testing::Test {
     EXPECT_EQ(r->status, status) << path << " " << r->body.substr(0, 300);
     return json::parse(r->body, nullptr, false);
   }
-  std::string Import(const std::string& extra = "") { return "import tum --db " + db_ + " --map home --dir " + seq_ + " " + extra; }
+  std::string Import(const std::string& extra = "") { return "import tum --db '" + db_ + "' --map home --dir " + seq_ + " " + extra; }
 
   testing::TempDir dir_;
   std::string seq_, db_;
@@ -186,8 +185,8 @@ TEST_F(TumImportTest, BadInputFailsClearlyAndStoresNothing) {
     EXPECT_NE(run.exit_code, 0) << args << "\n" << run.output;
     EXPECT_NE(run.output.find(message), std::string::npos) << args << "\n" << run.output;
   };
-  expect_refused("import tum --db " + db_ + " --map attic --dir " + seq_, "unknown map 'attic'");
-  expect_refused("import tum --db " + db_ + " --map home --dir " + dir_.File("nowhere"), "no directory");
+  expect_refused("import tum --db '" + db_ + "' --map attic --dir " + seq_, "unknown map 'attic'");
+  expect_refused("import tum --db '" + db_ + "' --map home --dir " + dir_.File("nowhere"), "no directory");
   expect_refused(Import("--every 0"), "--every");
   expect_refused(Import("--camera fr9"), "fr1, fr2 or fr3");
   // A depth image named but missing.

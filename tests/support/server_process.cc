@@ -14,10 +14,12 @@
 
 namespace anchordb::testing {
 
-namespace {
-// With ANCHORDB_TEST_ENGINE=postgresql, each database path a test names becomes its own database on the process's
-// scratch PostgreSQL (the same path again, e.g. after a restart, the same database).
-std::string ServerLocation(const std::string& db_path) {
+std::string AnchordbBin() {
+  const char* bin = std::getenv("ANCHORDB_BIN");
+  return bin && *bin ? bin : ANCHORDB_BUILT_BIN;
+}
+
+std::string DatabaseLocation(const std::string& db_path) {
   const char* engine = std::getenv("ANCHORDB_TEST_ENGINE");
   if (!engine || std::string(engine) != "postgresql" || storage::IsPostgresUri(db_path)) return db_path;
   static std::mutex mutex;
@@ -31,12 +33,10 @@ std::string ServerLocation(const std::string& db_path) {
   }
   return it->second;
 }
-}  // namespace
 
 ServerProcess::ServerProcess(const std::string& db_path, std::vector<std::string> extra_args) {
-  const char* bin = std::getenv("ANCHORDB_BIN");
-  if (!bin) throw std::runtime_error("ANCHORDB_BIN is not set (ctest sets it to the built anchordb)");
-  std::vector<std::string> args = {bin, "serve", "--db", ServerLocation(db_path), "--port", "0", "--log_requests=false"};
+  const std::string bin = AnchordbBin();
+  std::vector<std::string> args = {bin, "serve", "--db", DatabaseLocation(db_path), "--port", "0", "--log_requests=false"};
   args.insert(args.end(), extra_args.begin(), extra_args.end());
   int out[2];
   if (pipe(out) != 0) throw std::runtime_error("pipe failed");

@@ -7,6 +7,14 @@
 
 namespace anchordb::testing {
 
+// The anchordb binary the tests run: $ANCHORDB_BIN, else the one this build made.
+std::string AnchordbBin();
+
+// The location a server and the CLI should open for the database file a test names: the path itself, or with
+// ANCHORDB_TEST_ENGINE=postgresql a database of its own on the process's scratch PostgreSQL (the same path again,
+// e.g. after a restart, gives the same database). Quote it on a shell command line (a URI holds '&').
+std::string DatabaseLocation(const std::string& db_path);
+
 class ServerProcess {
  public:
   // Starts `anchordb serve --db <db> --port 0 --log_requests=false <extra...>` and waits for its listening line.
