@@ -19,6 +19,7 @@
 #include "server/auth.h"
 #include "server/config.h"
 #include "server/http_serving.h"
+#include "server/migrate_command.h"
 #include "server/tum_import.h"
 #include "services/audit/audit_service.h"
 #include "services/jobs/forget_job.h"
@@ -272,6 +273,7 @@ void Usage() {
                "  anchordb token create --role reader|writer|admin [--db file]\n"
                "  anchordb forget --db file --map ID [--policy JSON] [--dry-run] [--vacuum]\n"
                "  anchordb backup --db file [--out file | --label ID]\n"
+               "  anchordb migrate-to NEW_FILE|postgresql://... --db file|postgresql://...   (copy a whole memory, verified)\n"
                "  anchordb import tum --db file --map ID --dir SEQUENCE [--every N] [--max-frames N] [--camera fr1|fr2|fr3]\n"
                "                      [--fx F --fy F --cx C --cy C] [--depth-scale 5000] [--max-dt 0.02] [--merge]\n"
                "  anchordb version\n\nsettings (also ANCHORDB_<NAME> environment variables):\n"
@@ -300,6 +302,7 @@ int Main(int argc, char** argv) {
     if (args.size() >= 2 && args[0] == "import" && args[1] == "tum") {
       return ImportTumCommand(std::vector<std::string>(args.begin() + 2, args.end()), Environment());
     }
+    if (args[0] == "migrate-to") return MigrateToCommand(std::vector<std::string>(args.begin() + 1, args.end()), Environment());
     if (args[0] == "backup") return BackupCommand(std::vector<std::string>(args.begin() + 1, args.end()));
     if (args.size() >= 2 && args[0] == "token" && args[1] == "create") {
       std::string role;
