@@ -46,7 +46,7 @@ struct ObservationStep {
 };
 
 // Counts over the stream so far.
-struct ObservationCounts {
+struct ObservationRuleCounts {
   std::int64_t frames = 0;        // frames offered (ignored ones included)
   std::int64_t fed = 0;           // frames fed to a model
   std::int64_t moving = 0;        // frames dropped because no model was open (camera moving or dwelling)
@@ -55,7 +55,7 @@ struct ObservationCounts {
   std::int64_t closed_left = 0;   // closed because the camera left
   std::int64_t closed_gap = 0;    // closed because of a time gap
   std::int64_t closed_end = 0;    // closed by Finish()
-  bool operator==(const ObservationCounts&) const = default;
+  bool operator==(const ObservationRuleCounts&) const = default;
 };
 
 class ObservationRule {
@@ -73,7 +73,7 @@ class ObservationRule {
   bool model_open() const { return anchor_.has_value(); }
   // The pose at which the open model opened (the first frame fed to it); nullopt when none is open.
   const std::optional<Eigen::Isometry3d>& X_MapAnchor() const { return anchor_; }
-  const ObservationCounts& counts() const { return counts_; }
+  const ObservationRuleCounts& counts() const { return counts_; }
   const ObservationRuleParams& params() const { return params_; }
 
  private:
@@ -86,7 +86,7 @@ class ObservationRule {
   void Close(ObservationCloseReason reason);
 
   ObservationRuleParams params_;
-  ObservationCounts counts_;
+  ObservationRuleCounts counts_;
   std::deque<Pose> window_;               // the frames of the last still_window_s, oldest first
   std::optional<double> last_stamp_s_;    // the previous accepted frame's stamp
   std::optional<double> still_since_s_;   // the stamp at which the current still run began

@@ -113,7 +113,7 @@ TEST(ObservationRuleTest, StampsThatDoNotAdvanceAreIgnored) {
   ObservationRule rule;
   Trace trace;
   Offer(rule, trace, 0.0, 2.0, 10.0, [](double) { return PoseAt(0.0); });
-  const ObservationCounts before = rule.counts();
+  const ObservationRuleCounts before = rule.counts();
   const ObservationStep repeat = rule.OnFrame(1.9, PoseAt(5.0));
   EXPECT_TRUE(repeat.ignored);
   EXPECT_FALSE(repeat.feed);

@@ -1,0 +1,188 @@
+// `anchordb import rosbag`: a ROS 1 bag into a map through the scene, grid and octomap services.
+#include "server/rosbag/rosbag_import.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <stdexcept>
+
+#include "engine/image/png_codec.h"
+#include "schema/error.h"
+#include "schema/json_io.h"
+#include "services/audit/audit_service.h"
+#include "services/grid/grid_service.h"
+#include "services/octomap/octomap_service.h"
+#include "services/scene/scene_service.h"
+
+namespace anchordb::server {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A scene model the rule decided on: the frames (indices into BagScan::frames) it takes, the first one opening it.
+struct PlannedModel {
+  std::vector<std::size_t> frames;
+};
+
+std::vector<PlannedModel> PlanModels(const BagScan& scan, const engine::ObservationRuleParams& params,
+                                     RosbagImportSummary& summary) {
+  engine::ObservationRule rule(params);
+  std::vector<PlannedModel> models;
+  for (std::size_t i = 0; i < scan.frames.size(); ++i) {
+    const engine::ObservationStep step = rule.OnFrame(scan.frames[i].stamp_s, scan.frames[i].X_MapCamera);
+    if (step.open) models.emplace_back();
+    if (step.feed) models.back().frames.push_back(i);
+  }
+  rule.Finish();
+  summary.skipped_moving = rule.counts().moving;
+  summary.skipped_stamp = rule.counts().ignored;
+  return models;
+}
+
+Pose3 PoseOf(const Eigen::Isometry3d& X) {
+  Pose3 pose;
+  pose.position_m = X.translation();
+  pose.orientation = Eigen::Quaterniond(X.linear()).normalized();
+  return pose;
+}
+
+std::int64_t StampNs(double stamp_s) { return static_cast<std::int64_t>(std::llround(stamp_s * 1e9)); }
+
+// The grid as a map_server pair (PNG, top row = largest y; YAML with trinary thresholds) for ImportOccupancyLayer.
+void ImportGrid(services::GridService& grid, const std::string& map, const std::string& layer, const BagGrid& g) {
+  engine::PngImage image;
+  image.width = g.width, image.height = g.height, image.channels = 1, image.bit_depth = 8;
+  image.bytes.resize(static_cast<std::size_t>(g.width) * g.height);
+  for (int r = 0; r < g.height; ++r) {
+    for (int c = 0; c < g.width; ++c) {
+      const int v = g.cells[static_cast<std::size_t>(r) * g.width + c];
+      const std::uint8_t grey = v < 0 ? 205 : v >= 65 ? 0 : v <= 19 ? 254 : 205;
+      image.bytes[static_cast<std::size_t>(g.height - 1 - r) * g.width + c] = grey;
+    }
+  }
+  const std::string png = engine::EncodePngImage(image);
+  char yaml[256];
+  std::snprintf(yaml, sizeof(yaml),
+                "image: grid.png\nresolution: %.9g\norigin: [%.9g, %.9g, 0.0]\nnegate: 0\noccupied_thresh: 0.65\n"
+                "free_thresh: 0.196\n", g.resolution_m, g.origin_x_m, g.origin_y_m);
+  services::OccupancyImport request;
+  request.map = map, request.layer = layer, request.yaml_text = yaml, request.image_bytes = png;
+  grid.ImportOccupancyLayer(request);
+}
+
+}  // namespace
+
+RosbagImportSummary ImportRosbag(const Config& config, const RosbagImportOptions& o, std::ostream& out) {
+  RosbagImportSummary summary;
+  // Everything about the bag is checked before the first write (a bad bag leaves the database as it was).
+  const BagScan scan = ScanBag(o.bag, o.topics);
+  BagGrid bag_grid;
+  if (scan.has_grid) bag_grid = ReadLastGrid(o.bag, o.topics.grid);
+  summary.frames_read = scan.depth_messages;
+  summary.skipped_every = scan.skipped_every;
+  summary.skipped_no_pose = scan.skipped_no_pose;
+  const std::vector<PlannedModel> models = PlanModels(scan, o.rule, summary);
+
+  storage::Store store(StoreOptionsOf(config.server));
+  services::CapabilityOptions capability = config.capabilities;
+  services::GridService grid(store, capability.limits, capability.grid);
+  try {
+    grid.GetMap(o.map);
+  } catch (const Error& e) {
+    if (e.code() != ErrorCode::kNotFound) throw;
+    throw std::invalid_argument("unknown map '" + o.map + "' in " + config.server.db + " (create it first: POST /v1/maps)");
+  }
+  if (scan.has_grid) {
+    ImportGrid(grid, o.map, o.grid_layer, bag_grid);
+    summary.grid_imported = true;
+  }
+  services::SceneService scenes(store, capability.scene, capability.merge);
+  capability.octomap.from_keyframes = true;
+  services::OctomapService octomap(store, capability.octomap, SystemClock::Instance(), &grid);
+  PinholeIntrinsics camera;
+  camera.width = scan.camera.width, camera.height = scan.camera.height;
+  camera.fx = scan.camera.fx, camera.fy = scan.camera.fy, camera.cx = scan.camera.cx, camera.cy = scan.camera.cy;
+
+  // Which model each wanted depth image belongs to, in bag order.
+  std::vector<std::int64_t> wanted;
+  std::vector<std::pair<std::size_t, std::size_t>> owner;  // (model, position in the model)
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    for (std::size_t k = 0; k < models[m].frames.size(); ++k) {
+      wanted.push_back(scan.frames[models[m].frames[k]].index);
+      owner.emplace_back(m, k);
+    }
+  }
+  out << "importing " << o.bag << " into map " << o.map << ": " << scan.depth_messages << " depth images ("
+      << scan.encoding << ", " << camera.width << " x " << camera.height << "), " << wanted.size() << " in "
+      << models.size() << " scene models\n" << std::flush;
+  const auto start = std::chrono::steady_clock::now();
+  std::int64_t scene_id = 0;
+  std::size_t done = 0;
+  ReadDepthImages(o.bag, o.topics, wanted, [&](std::int64_t, const BagDepthPixels& pixels) {
+    const auto [m, k] = owner[done];
+    const BagDepthFrame& f = scan.frames[models[m].frames[k]];
+    if (k == 0) {
+      services::OpenSceneRequest open;
+      open.camera = camera;
+      open.X_MapCamera = PoseOf(f.X_MapCamera);
+      open.params.depth_scale = 1000.0;
+      open.merge = o.merge;
+      open.stamp_ns = StampNs(f.stamp_s);
+      scene_id = scenes.Open(o.map, open).id;
+      summary.scenes.push_back(scene_id);
+    }
+    std::string mask_png;
+    services::FrameInput frame;
+    frame.body = pixels.depth_mm_le;
+    frame.png = false;
+    frame.stamp_ns = StampNs(f.stamp_s);
+    if (!pixels.mask.empty()) {
+      engine::PngImage mask;
+      mask.width = camera.width, mask.height = camera.height, mask.channels = 1, mask.bit_depth = 8;
+      mask.bytes = pixels.mask;
+      mask_png = engine::EncodePngImage(mask);
+      frame.dynamic_png = mask_png;
+    }
+    if (scenes.AddFrame(o.map, scene_id, frame).keyframe) ++summary.keyframes;
+    ++summary.frames_used;
+    if (k + 1 == models[m].frames.size()) {
+      if (scenes.Close(o.map, scene_id).keyframe) ++summary.keyframes;
+      octomap.Follow(o.map);
+    }
+    ++done;
+    const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    char line[160];
+    std::snprintf(line, sizeof(line), "\rframe %zu/%zu  stamp %.3f  scene %lld  %.1f frames/s", done, wanted.size(),
+                  f.stamp_s, static_cast<long long>(scene_id), done / std::max(elapsed_s, 1e-9));
+    out << line << std::flush;
+  });
+  out << "\n";
+  scenes.PersistAll();
+  octomap.CommitPending();
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  json::Json report = {{"bag", fs::absolute(o.bag).lexically_normal().string()},
+                       {"map", o.map},
+                       {"frames_read", summary.frames_read},
+                       {"frames_used", summary.frames_used},
+                       {"skipped_every", summary.skipped_every},
+                       {"skipped_no_pose", summary.skipped_no_pose},
+                       {"skipped_moving", summary.skipped_moving},
+                       {"skipped_stamp", summary.skipped_stamp},
+                       {"scenes", summary.scenes},
+                       {"keyframes", summary.keyframes},
+                       {"grid_imported", summary.grid_imported},
+                       {"seconds", summary.seconds}};
+  services::AuditEntry entry;
+  entry.actor = "cli", entry.action = "map.import_rosbag", entry.map = o.map, entry.after_json = report.dump();
+  services::AuditService(store).Record(std::move(entry));
+  out << "imported " << summary.frames_used << " of " << summary.frames_read << " depth images (skipped: "
+      << summary.skipped_every << " by --every, " << summary.skipped_no_pose << " without a tf pose, "
+      << summary.skipped_moving << " while moving, " << summary.skipped_stamp << " stamp not advancing) into "
+      << summary.scenes.size() << " scene models, " << summary.keyframes << " keyframes\n" << report.dump() << "\n";
+  return summary;
+}
+
+}  // namespace anchordb::server
