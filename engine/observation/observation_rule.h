@@ -3,6 +3,7 @@
 // still at a place, open a scene model there, feed it the frames while the camera stays, and close it when the camera
 // leaves or the stream pauses. Pure: fed one frame's stamp and pose at a time; no clock, no I/O. The rosbag importer
 // and the ROS bridge both drive scene models with it, so a bag imported and the same bag played give the same models.
+// C++17-clean (header and .cc): the ROS bridge compiles it as C++17, since ROS 1's generated messages need that.
 #include <cstdint>
 #include <deque>
 #include <optional>
@@ -55,7 +56,6 @@ struct ObservationRuleCounts {
   std::int64_t closed_left = 0;   // closed because the camera left
   std::int64_t closed_gap = 0;    // closed because of a time gap
   std::int64_t closed_end = 0;    // closed by Finish()
-  bool operator==(const ObservationRuleCounts&) const = default;
 };
 
 class ObservationRule {

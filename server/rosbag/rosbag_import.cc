@@ -73,42 +73,45 @@ void ImportGrid(services::GridService& grid, const std::string& map, const std::
   grid.ImportOccupancyLayer(request);
 }
 
-}  // namespace
+// The services an import writes through, over one store; the OctoMap follows the keyframes as they come.
+struct ImportServices {
+  static services::OctomapSettings FromKeyframes(services::OctomapSettings settings) {
+    settings.from_keyframes = true;
+    return settings;
+  }
+  explicit ImportServices(const Config& config)
+      : store(StoreOptionsOf(config.server)),
+        grid(store, config.capabilities.limits, config.capabilities.grid),
+        scenes(store, config.capabilities.scene, config.capabilities.merge),
+        octomap(store, FromKeyframes(config.capabilities.octomap), SystemClock::Instance(), &grid) {}
+  storage::Store store;
+  services::GridService grid;
+  services::SceneService scenes;
+  services::OctomapService octomap;
+};
 
-RosbagImportSummary ImportRosbag(const Config& config, const RosbagImportOptions& o, std::ostream& out) {
-  RosbagImportSummary summary;
-  // Everything about the bag is checked before the first write (a bad bag leaves the database as it was).
-  const BagScan scan = ScanBag(o.bag, o.topics);
-  BagGrid bag_grid;
-  if (scan.has_grid) bag_grid = ReadLastGrid(o.bag, o.topics.grid);
-  summary.frames_read = scan.depth_messages;
-  summary.skipped_every = scan.skipped_every;
-  summary.skipped_no_pose = scan.skipped_no_pose;
-  const std::vector<PlannedModel> models = PlanModels(scan, o.rule, summary);
-
-  storage::Store store(StoreOptionsOf(config.server));
-  services::CapabilityOptions capability = config.capabilities;
-  services::GridService grid(store, capability.limits, capability.grid);
+void RequireMap(services::GridService& grid, const std::string& map, const std::string& db) {
   try {
-    grid.GetMap(o.map);
+    grid.GetMap(map);
   } catch (const Error& e) {
     if (e.code() != ErrorCode::kNotFound) throw;
-    throw std::invalid_argument("unknown map '" + o.map + "' in " + config.server.db + " (create it first: POST /v1/maps)");
+    throw std::invalid_argument("unknown map '" + map + "' in " + db + " (create it first: POST /v1/maps)");
   }
-  if (scan.has_grid) {
-    ImportGrid(grid, o.map, o.grid_layer, bag_grid);
-    summary.grid_imported = true;
-  }
-  services::SceneService scenes(store, capability.scene, capability.merge);
-  capability.octomap.from_keyframes = true;
-  services::OctomapService octomap(store, capability.octomap, SystemClock::Instance(), &grid);
-  PinholeIntrinsics camera;
-  camera.width = scan.camera.width, camera.height = scan.camera.height;
-  camera.fx = scan.camera.fx, camera.fy = scan.camera.fy, camera.cx = scan.camera.cx, camera.cy = scan.camera.cy;
+}
 
-  // Which model each wanted depth image belongs to, in bag order.
+PinholeIntrinsics CameraOf(const BagCamera& c) {
+  PinholeIntrinsics camera;
+  camera.width = c.width, camera.height = c.height;
+  camera.fx = c.fx, camera.fy = c.fy, camera.cx = c.cx, camera.cy = c.cy;
+  return camera;
+}
+
+// Feeds the planned models their depth images (read again from the bag, in bag order) with a progress line.
+void StoreFrames(ImportServices& s, const RosbagImportOptions& o, const BagScan& scan,
+                 const std::vector<PlannedModel>& models, RosbagImportSummary& summary, std::ostream& out) {
+  const PinholeIntrinsics camera = CameraOf(scan.camera);
   std::vector<std::int64_t> wanted;
-  std::vector<std::pair<std::size_t, std::size_t>> owner;  // (model, position in the model)
+  std::vector<std::pair<std::size_t, std::size_t>> owner;  // (model, position in the model) of each wanted image
   for (std::size_t m = 0; m < models.size(); ++m) {
     for (std::size_t k = 0; k < models[m].frames.size(); ++k) {
       wanted.push_back(scan.frames[models[m].frames[k]].index);
@@ -131,7 +134,7 @@ RosbagImportSummary ImportRosbag(const Config& config, const RosbagImportOptions
       open.params.depth_scale = 1000.0;
       open.merge = o.merge;
       open.stamp_ns = StampNs(f.stamp_s);
-      scene_id = scenes.Open(o.map, open).id;
+      scene_id = s.scenes.Open(o.map, open).id;
       summary.scenes.push_back(scene_id);
     }
     std::string mask_png;
@@ -146,11 +149,11 @@ RosbagImportSummary ImportRosbag(const Config& config, const RosbagImportOptions
       mask_png = engine::EncodePngImage(mask);
       frame.dynamic_png = mask_png;
     }
-    if (scenes.AddFrame(o.map, scene_id, frame).keyframe) ++summary.keyframes;
+    if (s.scenes.AddFrame(o.map, scene_id, frame).keyframe) ++summary.keyframes;
     ++summary.frames_used;
     if (k + 1 == models[m].frames.size()) {
-      if (scenes.Close(o.map, scene_id).keyframe) ++summary.keyframes;
-      octomap.Follow(o.map);
+      if (s.scenes.Close(o.map, scene_id).keyframe) ++summary.keyframes;
+      s.octomap.Follow(o.map);
     }
     ++done;
     const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -160,24 +163,50 @@ RosbagImportSummary ImportRosbag(const Config& config, const RosbagImportOptions
     out << line << std::flush;
   });
   out << "\n";
-  scenes.PersistAll();
-  octomap.CommitPending();
+  s.scenes.PersistAll();
+  s.octomap.CommitPending();
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  json::Json report = {{"bag", fs::absolute(o.bag).lexically_normal().string()},
-                       {"map", o.map},
-                       {"frames_read", summary.frames_read},
-                       {"frames_used", summary.frames_used},
-                       {"skipped_every", summary.skipped_every},
-                       {"skipped_no_pose", summary.skipped_no_pose},
-                       {"skipped_moving", summary.skipped_moving},
-                       {"skipped_stamp", summary.skipped_stamp},
-                       {"scenes", summary.scenes},
-                       {"keyframes", summary.keyframes},
-                       {"grid_imported", summary.grid_imported},
-                       {"seconds", summary.seconds}};
+}
+
+json::Json SummaryJson(const RosbagImportOptions& o, const RosbagImportSummary& summary) {
+  return {{"bag", fs::absolute(o.bag).lexically_normal().string()},
+          {"map", o.map},
+          {"frames_read", summary.frames_read},
+          {"frames_used", summary.frames_used},
+          {"skipped_every", summary.skipped_every},
+          {"skipped_no_pose", summary.skipped_no_pose},
+          {"skipped_moving", summary.skipped_moving},
+          {"skipped_stamp", summary.skipped_stamp},
+          {"scenes", summary.scenes},
+          {"keyframes", summary.keyframes},
+          {"grid_imported", summary.grid_imported},
+          {"seconds", summary.seconds}};
+}
+
+}  // namespace
+
+RosbagImportSummary ImportRosbag(const Config& config, const RosbagImportOptions& o, std::ostream& out) {
+  RosbagImportSummary summary;
+  // Everything about the bag is checked before the first write (a bad bag leaves the database as it was).
+  const BagScan scan = ScanBag(o.bag, o.topics);
+  BagGrid bag_grid;
+  if (scan.has_grid) bag_grid = ReadLastGrid(o.bag, o.topics.grid);
+  summary.frames_read = scan.depth_messages;
+  summary.skipped_every = scan.skipped_every;
+  summary.skipped_no_pose = scan.skipped_no_pose;
+  const std::vector<PlannedModel> models = PlanModels(scan, o.rule, summary);
+
+  ImportServices s(config);
+  RequireMap(s.grid, o.map, config.server.db);
+  if (scan.has_grid) {
+    ImportGrid(s.grid, o.map, o.grid_layer, bag_grid);
+    summary.grid_imported = true;
+  }
+  StoreFrames(s, o, scan, models, summary, out);
+  const json::Json report = SummaryJson(o, summary);
   services::AuditEntry entry;
   entry.actor = "cli", entry.action = "map.import_rosbag", entry.map = o.map, entry.after_json = report.dump();
-  services::AuditService(store).Record(std::move(entry));
+  services::AuditService(s.store).Record(std::move(entry));
   out << "imported " << summary.frames_used << " of " << summary.frames_read << " depth images (skipped: "
       << summary.skipped_every << " by --every, " << summary.skipped_no_pose << " without a tf pose, "
       << summary.skipped_moving << " while moving, " << summary.skipped_stamp << " stamp not advancing) into "

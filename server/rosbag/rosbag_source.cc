@@ -14,6 +14,7 @@
 #include <rosbag/bag.h>
 #include <rosbag/exceptions.h>
 #include <rosbag/view.h>
+#include <ros/exception.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <tf2/buffer_core.h>
@@ -36,7 +37,8 @@ void OpenBag(rosbag::Bag& bag, const std::string& bag_path) {
     throw std::invalid_argument(Name(bag_path) + ": unindexed, probably truncated (a recording cut short; "
                                 "`rosbag reindex` repairs it)");
   } catch (const rosbag::BagException& e) {
-    throw std::invalid_argument(Name(bag_path) + ": cannot be read as a ROS 1 bag: " + e.what());
+    throw std::invalid_argument(Name(bag_path) + ": cannot be read as a ROS 1 bag (truncated or damaged?): " +
+                                e.what());
   }
 }
 
@@ -153,7 +155,7 @@ BagScan ScanBag(const std::string& bag_path, const RosbagTopics& topics) {
     }
     if (!topics.grid.empty()) scan.has_grid = rosbag::View(bag, rosbag::TopicQuery(topics.grid)).size() > 0;
     if (!topics.mask.empty()) scan.mask_messages = rosbag::View(bag, rosbag::TopicQuery(topics.mask)).size();
-  } catch (const rosbag::BagException& e) {
+  } catch (const ros::Exception& e) {  // rosbag's exceptions, and a message cut short (StreamOverrunException)
     throw std::invalid_argument(Name(bag_path) + ": unreadable (truncated or damaged): " + e.what());
   }
   if (scan.frames.empty()) {
