@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <anchordb_ros/ChangeEvent.h>
+#include <nav_msgs/OccupancyGrid.h>
 #include <std_msgs/String.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -68,6 +69,13 @@ NodeParams LoadParams(const ros::NodeHandle& pnh) {
   pnh.param("leave_translation_m", r.leave_translation_m, r.leave_translation_m);
   pnh.param("leave_rotation_rad", r.leave_rotation_rad, r.leave_rotation_rad);
   pnh.param("max_gap_s", r.max_gap_s, r.max_gap_s);
+  std::string layers;
+  pnh.param("layers", layers, layers);
+  for (std::size_t start = 0; start < layers.size();) {
+    const std::size_t comma = std::min(layers.find(',', start), layers.size());
+    if (comma > start) p.layers.push_back(layers.substr(start, comma - start));
+    start = comma + 1;
+  }
   p.session.map = p.map;
   return p;
 }
@@ -88,6 +96,9 @@ BridgeNode::BridgeNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodePara
   events_pub_ = pnh.advertise<anchordb_ros::ChangeEvent>("events", 100);
   markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("instances", 1, true);
   status_pub_ = pnh.advertise<std_msgs::String>("status", 1, true);
+  for (const std::string& layer : p.layers) {
+    layer_pubs_[layer] = pnh.advertise<nav_msgs::OccupancyGrid>("layers/" + layer, 1, true);
+  }
   where_srv_ = pnh.advertiseService("where_is", &BridgeNode::WhereIs, this);
   label_srv_ = pnh.advertiseService("label", &BridgeNode::Label, this);
   poll_timer_ = nh.createTimer(ros::Duration(p.poll_period_s), &BridgeNode::Poll, this);

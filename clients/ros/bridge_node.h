@@ -3,10 +3,13 @@
 // posed in the map frame through tf at each image's stamp (tf2_ros::MessageFilter), go through the observation rule
 // into scene models on an anchordb server (SceneSession); what the memory learns comes back as ~events
 // (anchordb_ros/ChangeEvent), ~instances (visualization_msgs/MarkerArray), ~status (std_msgs/String, JSON counts)
-// and the services ~where_is and ~label. C++17 (ROS 1's generated messages); no project C++20 header here.
+// ~layers/<name> (nav_msgs/OccupancyGrid of the probability layers named in ~layers) and the services ~where_is
+// and ~label. C++17 (ROS 1's generated messages); no project C++20 header here.
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <message_filters/subscriber.h>
 #include <ros/ros.h>
@@ -28,6 +31,7 @@ struct NodeParams {
   int port = 8765;
   double timeout_s = 5.0, poll_period_s = 1.0;
   bool create_map = true, publish_past_events = false;
+  std::vector<std::string> layers;  // probability layers published as ~layers/<name> (~layers: "a,b")
   SessionSettings session;
 };
 
@@ -47,6 +51,7 @@ class BridgeNode {
   void PublishEvents();
   void PublishMarkers();
   void PublishStatus();
+  void PublishLayers();
   bool EnsureMap();
   bool WhereIs(anchordb_ros::WhereIs::Request& req, anchordb_ros::WhereIs::Response& res);
   bool Label(anchordb_ros::Label::Request& req, anchordb_ros::Label::Response& res);
@@ -66,6 +71,8 @@ class BridgeNode {
   std::optional<client::Camera> camera_;
   bool map_ready_ = false, events_primed_ = false;
   std::int64_t last_event_ = 0;
+  std::map<std::string, ros::Publisher> layer_pubs_;
+  std::map<std::string, std::int64_t> layer_versions_;  // the version last published
   std::int64_t tf_drops_ = 0;
 };
 

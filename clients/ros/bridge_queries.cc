@@ -1,8 +1,11 @@
 // anchordb_ros: what the memory learns, back to ROS (bridge_node.h): the map made sure of, events, instance markers,
 // status, and the where_is / label services. Every server failure is logged (throttled, on /rosout), never thrown.
+#include <cmath>
+#include <cstring>
 #include <string>
 
 #include <anchordb_ros/ChangeEvent.h>
+#include <nav_msgs/OccupancyGrid.h>
 #include <std_msgs/String.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -58,6 +61,7 @@ void BridgeNode::Poll(const ros::TimerEvent&) {
   try {
     PublishEvents();
     PublishMarkers();
+    PublishLayers();
   } catch (const std::exception& e) {
     ROS_WARN_THROTTLE(5.0, "anchordb_ros: polling the server: %s", e.what());
   }
@@ -113,6 +117,43 @@ void BridgeNode::PublishMarkers() {
     markers.markers.push_back(text);
   }
   markers_pub_.publish(markers);
+}
+
+// A probability layer's stored log-odds (raw export, f32 in cell order: row-major from the origin, as OccupancyGrid)
+// as probabilities 0..100; published again only when the layer's version changed.
+void BridgeNode::PublishLayers() {
+  for (auto& [layer, publisher] : layer_pubs_) {
+    const client::Json meta = query_client_.Request("GET", "/v1/maps/" + p_.map + "/layers/" + layer);
+    if (meta.value("kind", "") != "probability") {
+      ROS_WARN_THROTTLE(30.0, "anchordb_ros: layer '%s' is not a probability layer", layer.c_str());
+      continue;
+    }
+    const std::int64_t version = meta.value("version", std::int64_t{0});
+    if (layer_versions_.count(layer) && layer_versions_[layer] == version) continue;
+    const client::Json& g = meta.at("geometry");
+    nav_msgs::OccupancyGrid grid;
+    grid.header.frame_id = p_.map_frame, grid.header.stamp = ros::Time::now();
+    grid.info.resolution = g.at("resolution_m").get<float>();
+    grid.info.width = g.at("width_cells").get<std::uint32_t>(), grid.info.height = g.at("height_cells").get<std::uint32_t>();
+    const client::Json& origin = g.at("origin");  // x, y, yaw
+    grid.info.origin.position.x = origin.at(0).get<double>(), grid.info.origin.position.y = origin.at(1).get<double>();
+    const double yaw = origin.size() > 2 ? origin.at(2).get<double>() : 0.0;
+    grid.info.origin.orientation.z = std::sin(yaw / 2), grid.info.origin.orientation.w = std::cos(yaw / 2);
+    const std::string raw = query_client_.ExportLayer(p_.map, layer, "raw");
+    const std::size_t cells = static_cast<std::size_t>(grid.info.width) * grid.info.height;
+    if (raw.size() != cells * 4) {
+      ROS_WARN_THROTTLE(30.0, "anchordb_ros: layer '%s': %zu raw bytes for %zu cells", layer.c_str(), raw.size(), cells);
+      continue;
+    }
+    grid.data.resize(cells);
+    for (std::size_t i = 0; i < cells; ++i) {
+      float log_odds = 0;
+      std::memcpy(&log_odds, raw.data() + 4 * i, 4);
+      grid.data[i] = static_cast<std::int8_t>(std::lround(100.0 / (1.0 + std::exp(-static_cast<double>(log_odds)))));
+    }
+    publisher.publish(grid);
+    layer_versions_[layer] = version;
+  }
 }
 
 void BridgeNode::PublishStatus() {

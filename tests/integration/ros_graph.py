@@ -19,7 +19,7 @@ import genmsg.msg_loader
 import genpy.dynamic
 
 ROS_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "clients", "ros")
-SEARCH = {p: ["/usr/share/%s/msg" % p] for p in ("std_msgs", "geometry_msgs", "visualization_msgs", "rosgraph_msgs")}
+SEARCH = {p: ["/usr/share/%s/msg" % p] for p in ("std_msgs", "geometry_msgs", "visualization_msgs", "rosgraph_msgs", "nav_msgs")}
 SEARCH["anchordb_ros"] = [os.path.join(ROS_DIR, "msg")]
 
 
