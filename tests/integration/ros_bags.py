@@ -172,13 +172,15 @@ def _box_entry(origin, d, lo, hi):
     return t_near if 0 < t_near <= t_far else math.inf
 
 
-def depth_metres(x_map_optical, rng, noise_m=0.002):
-    """Row-major depth [m] (along the optical axis) of the scene seen from X_MapOptical, with seeded noise."""
+def depth_metres(x_map_optical, rng, noise_m=0.002, camera=None):
+    """Row-major depth [m] (along the optical axis) of the scene seen from X_MapOptical, with seeded noise.
+    camera: (width, height, fx, fy, cx, cy), default the bags' 80 x 60 camera."""
+    width, height, fx, fy, cx, cy = camera or (WIDTH, HEIGHT, FX, FY, CX, CY)
     r, origin = x_map_optical
     out = []
-    for v in range(HEIGHT):
-        for u in range(WIDTH):
-            d = mat_vec(r, [(u - CX) / FX, (v - CY) / FY, 1.0])  # t along d is the depth itself
+    for v in range(height):
+        for u in range(width):
+            d = mat_vec(r, [(u - cx) / fx, (v - cy) / fy, 1.0])  # t along d is the depth itself
             t = _box_exit(origin, d, *ROOM)
             for lo, hi in FURNITURE:
                 t = min(t, _box_entry(origin, d, lo, hi))
@@ -210,9 +212,12 @@ TUM = {"depth": "/camera/depth/image", "info": "/camera/depth/camera_info", "enc
        "frames": ("/world", None, "/kinect", "/openni_camera", "/openni_rgb_optical_frame"), "static": False}
 
 
-class _Writer:
-    def __init__(self, bag, classes):
+class Writer:
+    """Writes tf, CameraInfo and depth Image messages into an open rosbag.Bag (camera: width, height, fx, fy, cx, cy)."""
+
+    def __init__(self, bag, classes, camera=None):
         self.bag, self.c = bag, classes
+        self.camera = camera or (WIDTH, HEIGHT, FX, FY, CX, CY)
 
     def transform(self, stamp, parent, child, x):
         t = self.c["geometry_msgs/TransformStamped"]()
@@ -231,25 +236,27 @@ class _Writer:
     def info(self, topic, stamp, frame):
         msg = self.c["sensor_msgs/CameraInfo"]()
         msg.header.stamp, msg.header.frame_id = stamp, frame
-        msg.width, msg.height, msg.distortion_model = WIDTH, HEIGHT, "plumb_bob"
+        width, height, fx, fy, cx, cy = self.camera
+        msg.width, msg.height, msg.distortion_model = width, height, "plumb_bob"
         msg.D = [0.0] * 5
-        msg.K = [FX, 0.0, CX, 0.0, FY, CY, 0.0, 0.0, 1.0]
+        msg.K = [fx, 0.0, cx, 0.0, fy, cy, 0.0, 0.0, 1.0]
         msg.R = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
-        msg.P = [FX, 0.0, CX, 0.0, 0.0, FY, CY, 0.0, 0.0, 0.0, 1.0, 0.0]
+        msg.P = [fx, 0.0, cx, 0.0, 0.0, fy, cy, 0.0, 0.0, 0.0, 1.0, 0.0]
         self.bag.write(topic, msg, t=stamp)
 
     def image(self, topic, stamp, frame, encoding, depth_m):
         msg = self.c["sensor_msgs/Image"]()
         msg.header.stamp, msg.header.frame_id = stamp, frame
-        msg.width, msg.height, msg.encoding, msg.is_bigendian = WIDTH, HEIGHT, encoding, 0
+        width, height = self.camera[:2]
+        msg.width, msg.height, msg.encoding, msg.is_bigendian = width, height, encoding, 0
         if encoding == "32FC1":  # metres; the first column has no reading (NaN)
-            values = [math.nan if i % WIDTH == 0 else d for i, d in enumerate(depth_m)]
-            msg.step, msg.data = 4 * WIDTH, struct.pack("<%df" % len(values), *values)
+            values = [math.nan if i % width == 0 else d for i, d in enumerate(depth_m)]
+            msg.step, msg.data = 4 * width, struct.pack("<%df" % len(values), *values)
         elif encoding in ("16UC1", "mono16"):  # millimetres; the first column has no reading (0)
-            values = [0 if i % WIDTH == 0 else max(0, min(65535, round(d * 1000))) for i, d in enumerate(depth_m)]
-            msg.step, msg.data = 2 * WIDTH, struct.pack("<%dH" % len(values), *values)
+            values = [0 if i % width == 0 else max(0, min(65535, round(d * 1000))) for i, d in enumerate(depth_m)]
+            msg.step, msg.data = 2 * width, struct.pack("<%dH" % len(values), *values)
         else:  # an encoding the importer does not know: 3 bytes a pixel
-            msg.step, msg.data = 3 * WIDTH, bytes(3 * WIDTH * HEIGHT)
+            msg.step, msg.data = 3 * width, bytes(3 * width * height)
         self.bag.write(topic, msg, t=stamp)
 
 
@@ -265,7 +272,7 @@ def write_bag(path, layout, seed, encoding=None, with_info=True, with_tf=True):
     poses = trajectory(seed)
     expected = []
     with rosbag.Bag(path, "w") as bag:
-        w = _Writer(bag, classes)
+        w = Writer(bag, classes)
         start = genpy.Time.from_sec(T0_S - 1.0)
         if with_tf and layout["static"]:
             w.tf("/tf_static", start, [w.transform(start, frames[2], frames[3], link),
