@@ -9,10 +9,13 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "engine/grid/occupancy_grid_image.h"
 #include "engine/image/png_codec.h"
 #include "schema/error.h"
 #include "schema/json_io.h"
 #include "services/audit/audit_service.h"
+#include "services/events/analysis_queue.h"
+#include "services/events/event_service.h"
 #include "services/grid/grid_service.h"
 #include "services/octomap/octomap_service.h"
 #include "services/scene/scene_service.h"
@@ -51,44 +54,68 @@ Pose3 PoseOf(const Eigen::Isometry3d& X) {
 
 std::int64_t StampNs(double stamp_s) { return static_cast<std::int64_t>(std::llround(stamp_s * 1e9)); }
 
-// The grid as a map_server pair (PNG, top row = largest y; YAML with trinary thresholds) for ImportOccupancyLayer.
+// The grid as a map_server pair (PNG, top row = largest y; YAML with trinary thresholds) for ImportOccupancyLayer, the
+// conversion the bridge node uses too (engine/grid/occupancy_grid_image.h).
 void ImportGrid(services::GridService& grid, const std::string& map, const std::string& layer, const BagGrid& g) {
   engine::PngImage image;
   image.width = g.width, image.height = g.height, image.channels = 1, image.bit_depth = 8;
-  image.bytes.resize(static_cast<std::size_t>(g.width) * g.height);
-  for (int r = 0; r < g.height; ++r) {
-    for (int c = 0; c < g.width; ++c) {
-      const int v = g.cells[static_cast<std::size_t>(r) * g.width + c];
-      const std::uint8_t grey = v < 0 ? 205 : v >= 65 ? 0 : v <= 19 ? 254 : 205;
-      image.bytes[static_cast<std::size_t>(g.height - 1 - r) * g.width + c] = grey;
-    }
-  }
+  image.bytes = engine::OccupancyGridImage(g.cells, g.width, g.height);
   const std::string png = engine::EncodePngImage(image);
-  char yaml[256];
-  std::snprintf(yaml, sizeof(yaml),
-                "image: grid.png\nresolution: %.9g\norigin: [%.9g, %.9g, 0.0]\nnegate: 0\noccupied_thresh: 0.65\n"
-                "free_thresh: 0.196\n", g.resolution_m, g.origin_x_m, g.origin_y_m);
-  services::OccupancyImport request;
+  const std::string yaml = engine::OccupancyGridYaml("grid.png", g.resolution_m, g.origin_x_m, g.origin_y_m, g.origin_yaw_rad);
+  services::OccupancyImport request;  // views of png and yaml
   request.map = map, request.layer = layer, request.yaml_text = yaml, request.image_bytes = png;
   grid.ImportOccupancyLayer(request);
 }
 
-// The services an import writes through, over one store; the OctoMap follows the keyframes as they come.
+// The services an import writes through, over one store; the OctoMap follows the keyframes as they come. Every stored
+// keyframe's change analysis is queued (durably, in its own transaction, as the server's scene service does) and the
+// import runs the queue itself at the end (no worker threads), so the events are there when it returns; a queued
+// analysis the import did not get to (a crash) is run by the next server start. No JobService: constructing one marks
+// a running server's unfinished jobs failed.
 struct ImportServices {
   static services::OctomapSettings FromKeyframes(services::OctomapSettings settings) {
     settings.from_keyframes = true;
+    return settings;
+  }
+  static services::AnalysisQueueSettings InCaller(services::AnalysisQueueSettings settings) {
+    settings.threads = 0;
     return settings;
   }
   explicit ImportServices(const Config& config)
       : store(StoreOptionsOf(config.server)),
         grid(store, config.capabilities.limits, config.capabilities.grid),
         scenes(store, config.capabilities.scene, config.capabilities.merge),
-        octomap(store, FromKeyframes(config.capabilities.octomap), SystemClock::Instance(), &grid) {}
+        events(store, nullptr, config.capabilities.events),
+        analysis(store, events, InCaller(config.capabilities.analysis)),
+        octomap(store, FromKeyframes(config.capabilities.octomap), SystemClock::Instance(), &grid) {
+    scenes.SetKeyframeListener(&analysis);
+  }
   storage::Store store;
   services::GridService grid;
   services::SceneService scenes;
+  services::EventService events;
+  services::AnalysisQueue analysis;
   services::OctomapService octomap;
 };
+
+// Runs the queued change analyses of the keyframes stored (in keyframe order, in this thread) and collects the events
+// they wrote (ids after `after_event`).
+void AnalyseKeyframes(ImportServices& s, const std::string& map, std::int64_t after_event, RosbagImportSummary& summary) {
+  summary.analyses = s.analysis.Drain(true);
+  const services::AnalysisQueueView left = s.analysis.View(map);
+  summary.analyses_failed = left.failed + left.pending;
+  services::EventQuery q;
+  q.after_id = after_event;
+  q.limit = 1000;
+  for (;;) {
+    const services::EventPage page = s.events.ListEvents(map, q);
+    for (const services::EventView& e : page.events) {
+      summary.events.push_back({e.id, e.type, e.detection, e.instance_id.value_or(0)});
+      q.after_id = std::max(q.after_id, e.id);
+    }
+    if (!page.next_after) break;
+  }
+}
 
 void RequireMap(services::GridService& grid, const std::string& map, const std::string& db) {
   try {
@@ -149,7 +176,10 @@ void StoreFrames(ImportServices& s, const RosbagImportOptions& o, const BagScan&
       mask_png = engine::EncodePngImage(mask);
       frame.dynamic_png = mask_png;
     }
-    if (s.scenes.AddFrame(o.map, scene_id, frame).keyframe) ++summary.keyframes;
+    const services::FrameResult stored = s.scenes.AddFrame(o.map, scene_id, frame);
+    if (stored.keyframe) ++summary.keyframes;
+    if (!pixels.mask.empty()) ++summary.frames_masked;
+    summary.dynamic_pixels += static_cast<std::int64_t>(stored.pixels.dynamic);
     ++summary.frames_used;
     if (k + 1 == models[m].frames.size()) {
       if (s.scenes.Close(o.map, scene_id).keyframe) ++summary.keyframes;
@@ -169,6 +199,10 @@ void StoreFrames(ImportServices& s, const RosbagImportOptions& o, const BagScan&
 }
 
 json::Json SummaryJson(const RosbagImportOptions& o, const RosbagImportSummary& summary) {
+  json::Json events = json::Json::array();
+  for (const RosbagImportEvent& e : summary.events) {
+    events.push_back({{"id", e.id}, {"type", e.type}, {"detection", e.detection}, {"instance", e.instance}});
+  }
   return {{"bag", fs::absolute(o.bag).lexically_normal().string()},
           {"map", o.map},
           {"frames_read", summary.frames_read},
@@ -179,6 +213,11 @@ json::Json SummaryJson(const RosbagImportOptions& o, const RosbagImportSummary& 
           {"skipped_stamp", summary.skipped_stamp},
           {"scenes", summary.scenes},
           {"keyframes", summary.keyframes},
+          {"frames_masked", summary.frames_masked},
+          {"dynamic_pixels", summary.dynamic_pixels},
+          {"analyses", summary.analyses},
+          {"analyses_not_done", summary.analyses_failed},
+          {"events", events},
           {"grid_imported", summary.grid_imported},
           {"seconds", summary.seconds}};
 }
@@ -202,7 +241,9 @@ RosbagImportSummary ImportRosbag(const Config& config, const RosbagImportOptions
     ImportGrid(s.grid, o.map, o.grid_layer, bag_grid);
     summary.grid_imported = true;
   }
+  const std::int64_t events_before = s.events.LatestEventId(o.map);
   StoreFrames(s, o, scan, models, summary, out);
+  AnalyseKeyframes(s, o.map, events_before, summary);
   const json::Json report = SummaryJson(o, summary);
   services::AuditEntry entry;
   entry.actor = "cli", entry.action = "map.import_rosbag", entry.map = o.map, entry.after_json = report.dump();
@@ -210,7 +251,8 @@ RosbagImportSummary ImportRosbag(const Config& config, const RosbagImportOptions
   out << "imported " << summary.frames_used << " of " << summary.frames_read << " depth images (skipped: "
       << summary.skipped_every << " by --every, " << summary.skipped_no_pose << " without a tf pose, "
       << summary.skipped_moving << " while moving, " << summary.skipped_stamp << " stamp not advancing) into "
-      << summary.scenes.size() << " scene models, " << summary.keyframes << " keyframes\n" << report.dump() << "\n";
+      << summary.scenes.size() << " scene models, " << summary.keyframes << " keyframes, " << summary.events.size()
+      << " change events\n" << report.dump() << "\n";
   return summary;
 }
 

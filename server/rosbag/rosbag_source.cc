@@ -1,10 +1,12 @@
 // The only translation unit of the importer that includes ROS headers.
 #include "server/rosbag/rosbag_source.h"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <deque>
 #include <limits>
+#include <map>
 #include <memory>
 #include <set>
 #include <stdexcept>
@@ -81,6 +83,18 @@ void CheckEncoding(const std::string& encoding, const std::string& bag_path, con
   }
 }
 
+// The image's rows fit its data (a message cut short or with a wrong step would be read past its end).
+void CheckImageSize(const sensor_msgs::Image& image, std::size_t bytes_per_pixel, const std::string& bag_path,
+                    const std::string& topic, std::int64_t index) {
+  if (image.step < image.width * bytes_per_pixel ||
+      image.data.size() < static_cast<std::size_t>(image.step) * image.height) {
+    throw std::invalid_argument(Name(bag_path) + ": image " + std::to_string(index) + " on " + topic + " has " +
+                                std::to_string(image.data.size()) + " bytes for " + std::to_string(image.height) +
+                                " rows of step " + std::to_string(image.step) + " (" + std::to_string(image.width) +
+                                " pixels of " + std::to_string(bytes_per_pixel) + " bytes)");
+  }
+}
+
 BagCamera FirstCameraInfo(const rosbag::Bag& bag, const std::string& bag_path, const std::string& topic) {
   rosbag::View view(bag, rosbag::TopicQuery(topic));
   for (const rosbag::MessageInstance& m : view) {
@@ -141,6 +155,7 @@ BagScan ScanBag(const std::string& bag_path, const RosbagTopics& topics) {
                                     ", the camera info says " + std::to_string(scan.camera.width) + " x " +
                                     std::to_string(scan.camera.height));
       }
+      CheckImageSize(*image, image->encoding == "32FC1" ? 4 : 2, bag_path, topics.depth, index);
       if (index % topics.every != 0) {
         ++scan.skipped_every;
         continue;
@@ -154,7 +169,24 @@ BagScan ScanBag(const std::string& bag_path, const RosbagTopics& topics) {
       }
     }
     if (!topics.grid.empty()) scan.has_grid = rosbag::View(bag, rosbag::TopicQuery(topics.grid)).size() > 0;
-    if (!topics.mask.empty()) scan.mask_messages = rosbag::View(bag, rosbag::TopicQuery(topics.mask)).size();
+    if (!topics.mask.empty()) {
+      for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(topics.mask))) {
+        const sensor_msgs::Image::ConstPtr image = m.instantiate<sensor_msgs::Image>();
+        if (!image) throw std::invalid_argument(Name(bag_path) + ": topic " + topics.mask + " is not sensor_msgs/Image");
+        if (image->encoding != "mono8" && image->encoding != "8UC1") {
+          throw std::invalid_argument(Name(bag_path) + ": mask encoding '" + image->encoding + "' on " + topics.mask +
+                                      " (known: mono8, 8UC1)");
+        }
+        if (static_cast<int>(image->width) != scan.camera.width || static_cast<int>(image->height) != scan.camera.height) {
+          throw std::invalid_argument(Name(bag_path) + ": mask " + std::to_string(scan.mask_messages) + " is " +
+                                      std::to_string(image->width) + " x " + std::to_string(image->height) +
+                                      ", the depth images are " + std::to_string(scan.camera.width) + " x " +
+                                      std::to_string(scan.camera.height));
+        }
+        CheckImageSize(*image, 1, bag_path, topics.mask, scan.mask_messages);
+        ++scan.mask_messages;
+      }
+    }
   } catch (const ros::Exception& e) {  // rosbag's exceptions, and a message cut short (StreamOverrunException)
     throw std::invalid_argument(Name(bag_path) + ": unreadable (truncated or damaged): " + e.what());
   }
@@ -200,11 +232,38 @@ void ReadDepthImages(const std::string& bag_path, const RosbagTopics& topics, co
   std::vector<std::string> query{topics.depth};
   if (!topics.mask.empty()) query.push_back(topics.mask);
   rosbag::View view(bag, rosbag::TopicQuery(query));
-  std::map<double, std::vector<std::uint8_t>> masks;  // by stamp, kept until their depth image came
+  // A mask may be recorded before or after the depth image of its stamp (messages of one time come in no fixed order
+  // across topics, and a mask is often recorded a little later): a depth image waits until its mask came or the bag's
+  // time is kMaskWaitS past its own, then goes on without one.
+  constexpr double kMaskWaitS = 0.5;
+  struct Waiting {
+    std::int64_t index = 0;
+    double record_s = 0.0;
+    ros::Time stamp;
+    BagDepthPixels pixels;
+  };
+  std::deque<Waiting> waiting;
+  std::map<ros::Time, std::vector<std::uint8_t>> masks;  // by stamp, until their depth image came
+  const auto hand_on = [&](bool all, double now_s) {
+    while (!waiting.empty()) {
+      Waiting& w = waiting.front();
+      const auto mask = masks.find(w.stamp);
+      if (mask != masks.end()) {
+        w.pixels.mask = std::move(mask->second);
+        masks.erase(masks.begin(), std::next(mask));  // older masks: their depth image went on already
+      } else if (!all && now_s - w.record_s < kMaskWaitS) {
+        return;
+      }
+      consume(w.index, w.pixels);
+      waiting.pop_front();
+    }
+  };
   std::int64_t index = -1;
   std::size_t next = 0;
   for (const rosbag::MessageInstance& m : view) {
-    if (next == wanted.size()) break;
+    const double now_s = m.getTime().toSec();
+    hand_on(topics.mask.empty(), now_s);
+    if (next == wanted.size() && waiting.empty()) break;
     const sensor_msgs::Image::ConstPtr image = m.instantiate<sensor_msgs::Image>();
     if (!image) continue;
     if (m.getTopic() != topics.depth) {
@@ -212,17 +271,14 @@ void ReadDepthImages(const std::string& bag_path, const RosbagTopics& topics, co
       for (std::size_t r = 0; r < image->height; ++r) {
         for (std::size_t c = 0; c < image->width; ++c) mask[r * image->width + c] = image->data[r * image->step + c] ? 255 : 0;
       }
-      masks[image->header.stamp.toSec()] = std::move(mask);
+      masks[image->header.stamp] = std::move(mask);
       continue;
     }
-    if (++index != wanted[next]) continue;
+    if (next == wanted.size() || ++index != wanted[next]) continue;
     ++next;
-    BagDepthPixels pixels;
-    pixels.depth_mm_le = ToMillimetres(*image);
-    const auto mask = masks.find(image->header.stamp.toSec());
-    if (mask != masks.end()) pixels.mask = mask->second;
-    consume(index, pixels);
+    waiting.push_back({index, now_s, image->header.stamp, {ToMillimetres(*image), {}}});
   }
+  hand_on(true, 0.0);
 }
 
 BagGrid ReadLastGrid(const std::string& bag_path, const std::string& grid_topic) {
@@ -232,8 +288,17 @@ BagGrid ReadLastGrid(const std::string& bag_path, const std::string& grid_topic)
   for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(grid_topic))) {
     const nav_msgs::OccupancyGrid::ConstPtr msg = m.instantiate<nav_msgs::OccupancyGrid>();
     if (!msg) throw std::invalid_argument(Name(bag_path) + ": topic " + grid_topic + " is not nav_msgs/OccupancyGrid");
+    if (msg->data.size() != static_cast<std::size_t>(msg->info.width) * msg->info.height || msg->data.empty() ||
+        !(msg->info.resolution > 0.0f)) {
+      throw std::invalid_argument(Name(bag_path) + ": grid on " + grid_topic + " has " + std::to_string(msg->data.size()) +
+                                  " cells for " + std::to_string(msg->info.width) + " x " +
+                                  std::to_string(msg->info.height) + " at resolution " +
+                                  std::to_string(msg->info.resolution));
+    }
     grid.resolution_m = msg->info.resolution;
     grid.origin_x_m = msg->info.origin.position.x, grid.origin_y_m = msg->info.origin.position.y;
+    const geometry_msgs::Quaternion& q = msg->info.origin.orientation;
+    grid.origin_yaw_rad = std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
     grid.width = static_cast<int>(msg->info.width), grid.height = static_cast<int>(msg->info.height);
     grid.cells.assign(msg->data.begin(), msg->data.end());
   }

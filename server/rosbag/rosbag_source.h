@@ -54,8 +54,9 @@ struct BagScan {
 };
 
 // Scans the bag (see above). Throws std::invalid_argument with the bag's name for an unreadable or truncated bag, a
-// missing depth or info topic, an encoding other than 16UC1 / 32FC1 (or mono16), images of changing size, a bag
-// without tf, or no depth image whose pose can be looked up.
+// missing depth or info topic, an encoding other than 16UC1 / 32FC1 (or mono16), images of changing size or whose
+// data is shorter than their rows, a bag without tf, no depth image whose pose can be looked up, or (with a mask
+// topic) a mask that is not mono8 / 8UC1 of the depth images' size.
 BagScan ScanBag(const std::string& bag_path, const RosbagTopics& topics);
 
 // A depth image, converted: raw little-endian uint16 millimetres (0: no reading), and the person mask of the same
@@ -70,9 +71,11 @@ void ReadDepthImages(const std::string& bag_path, const RosbagTopics& topics, co
                      const std::function<void(std::int64_t index, const BagDepthPixels& pixels)>& consume);
 
 // The last OccupancyGrid of the grid topic as map_server values: resolution [m], origin, cells (-1 unknown, 0..100).
+// Throws std::invalid_argument when its cells do not fill width x height or the resolution is not positive.
 struct BagGrid {
   double resolution_m = 0.0;
-  double origin_x_m = 0.0, origin_y_m = 0.0;
+  double origin_x_m = 0.0, origin_y_m = 0.0;  // the lower-left cell's corner in the map frame
+  double origin_yaw_rad = 0.0;
   int width = 0, height = 0;
   std::vector<std::int8_t> cells;  // row-major from the origin
 };
