@@ -5,7 +5,6 @@
 #include <string>
 
 #include <anchordb_ros/ChangeEvent.h>
-#include <nav_msgs/OccupancyGrid.h>
 #include <std_msgs/String.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -56,6 +55,8 @@ bool BridgeNode::EnsureMap() {
 }
 
 void BridgeNode::Poll(const ros::TimerEvent&) {
+  DrainPending(false);  // depth images whose mask did not come in time
+  ImportGrid();         // a map received while the server was away
   PublishStatus();
   if (!map_ready_ && !EnsureMap()) return;
   try {
@@ -67,7 +68,25 @@ void BridgeNode::Poll(const ros::TimerEvent&) {
   }
 }
 
+// Where ~events starts: after the map's newest event (or at its first with ~publish_past_events). The constructor
+// tries it, so that an event made once the services are up (a ~label call) is never taken for a past one; with the
+// server away at start, the first poll that reaches it does.
+void BridgeNode::PrimeEvents() {
+  if (!p_.publish_past_events) {
+    for (;;) {
+      client::EventQuery q;
+      q.after = last_event_;
+      q.limit = 1000;
+      const std::vector<client::Event> events = query_client_.Events(p_.map, q);
+      for (const client::Event& e : events) last_event_ = std::max(last_event_, e.id);
+      if (events.size() < 1000) break;
+    }
+  }
+  events_primed_ = true;
+}
+
 void BridgeNode::PublishEvents() {
+  if (!events_primed_) return PrimeEvents();
   for (;;) {
     client::EventQuery q;
     q.after = last_event_;
@@ -75,7 +94,6 @@ void BridgeNode::PublishEvents() {
     const std::vector<client::Event> events = query_client_.Events(p_.map, q);
     for (const client::Event& e : events) {
       last_event_ = std::max(last_event_, e.id);
-      if (!events_primed_ && !p_.publish_past_events) continue;
       anchordb_ros::ChangeEvent m;
       m.id = e.id, m.type = e.type, m.detection = e.detection, m.instance = e.instance.value_or(0);
       m.label = e.label.value_or(""), m.stamp = TimeOfNs(e.stamp_ns), m.explanation = e.explanation;
@@ -92,7 +110,6 @@ void BridgeNode::PublishEvents() {
     }
     if (events.size() < 100) break;
   }
-  events_primed_ = true;
 }
 
 void BridgeNode::PublishMarkers() {
@@ -162,7 +179,9 @@ void BridgeNode::PublishStatus() {
   m.data = client::Json{{"offered", c.offered}, {"stored", c.stored}, {"skipped", c.skipped_moving},
                         {"dropped", c.dropped}, {"no_tf", tf_drops_}, {"scenes_opened", c.scenes_opened},
                         {"scenes_closed", c.scenes_closed}, {"server_failures", c.server_failures},
-                        {"last_error", session_.last_error()}}.dump();
+                        {"masked", c.frames_masked}, {"dynamic_pixels", c.dynamic_pixels},
+                        {"without_mask", without_mask_}, {"masks_refused", masks_refused_},
+                        {"grid_imported", grid_done_}, {"last_error", session_.last_error()}}.dump();
   status_pub_.publish(m);
 }
 

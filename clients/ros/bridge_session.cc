@@ -52,7 +52,8 @@ void SceneSession::CloseScene() {
 }
 
 FrameOutcome SceneSession::OnFrame(double stamp_s, const Eigen::Isometry3d& X_MapCamera, const client::Camera& camera,
-                                   const std::vector<std::uint16_t>& depth_mm, double now_s) {
+                                   const std::vector<std::uint16_t>& depth_mm, const std::string& dynamic_png,
+                                   double now_s) {
   ++counts_.offered;
   const engine::ObservationStep step = rule_.OnFrame(stamp_s, X_MapCamera);
   if (step.close_reason != engine::ObservationCloseReason::kNone || step.open) CloseScene();
@@ -64,20 +65,26 @@ FrameOutcome SceneSession::OnFrame(double stamp_s, const Eigen::Isometry3d& X_Ma
     ++counts_.dropped;
     return FrameOutcome::kDropped;
   }
+  const auto stamp_ns = static_cast<std::int64_t>(std::llround(stamp_s * 1e9));
   if (!scene_ && !Attempt([&] {
-        scene_ = client_.OpenScene(settings_.map, camera, ClientPose(X_MapCamera), settings_.merge).id;
+        scene_ = client_.OpenScene(settings_.map, camera, ClientPose(X_MapCamera), settings_.merge, nullptr, stamp_ns).id;
         ++counts_.scenes_opened;
       }, now_s)) {
     ++counts_.dropped;
     return FrameOutcome::kDropped;
   }
-  const auto stamp_ns = static_cast<std::int64_t>(std::llround(stamp_s * 1e9));
-  if (!Attempt([&] { client_.PostDepthFrame(settings_.map, *scene_, depth_mm.data(), camera.width, camera.height,
-                                            stamp_ns); }, now_s)) {
+  client::FrameResult answer;
+  if (!Attempt([&] { answer = client_.PostDepthFrame(settings_.map, *scene_, depth_mm.data(), camera.width,
+                                                     camera.height, stamp_ns, dynamic_png); }, now_s)) {
     ++counts_.dropped;
     return FrameOutcome::kDropped;
   }
   ++counts_.stored;
+  if (!dynamic_png.empty()) ++counts_.frames_masked;
+  const client::Json pixels = answer.raw.value("pixels", client::Json::object());
+  if (pixels.is_object() && pixels.contains("dynamic") && pixels["dynamic"].is_number_integer()) {
+    counts_.dynamic_pixels += pixels["dynamic"].get<std::int64_t>();
+  }
   return FrameOutcome::kStored;
 }
 

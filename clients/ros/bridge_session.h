@@ -33,6 +33,8 @@ struct SessionCounts {
   std::int64_t scenes_opened = 0;    // acknowledged opens
   std::int64_t scenes_closed = 0;    // acknowledged closes
   std::int64_t server_failures = 0;  // requests without an answer or with a 5xx answer
+  std::int64_t frames_masked = 0;    // stored frames sent with a person mask (their dynamic input)
+  std::int64_t dynamic_pixels = 0;   // dynamic pixels of the stored frames, as the server counted them
 };
 
 enum class FrameOutcome { kStored, kSkipped, kDropped };
@@ -41,10 +43,11 @@ class SceneSession {
  public:
   SceneSession(client::Client& client, SessionSettings settings);
 
-  // One depth frame: its stamp [s], X_MapCamera (optical frame), the camera, row-major uint16 millimetres.
+  // One depth frame: its stamp [s], X_MapCamera (optical frame), the camera, row-major uint16 millimetres, and the
+  // PNG of its person mask (8-bit, nonzero: a person; empty: none), posted as the frame's dynamic input.
   // now_s: the wall clock [s] that the back-off is measured on.
   FrameOutcome OnFrame(double stamp_s, const Eigen::Isometry3d& X_MapCamera, const client::Camera& camera,
-                       const std::vector<std::uint16_t>& depth_mm, double now_s);
+                       const std::vector<std::uint16_t>& depth_mm, const std::string& dynamic_png, double now_s);
   // Closes the open model (end of the stream or shutdown); a failure is counted, not thrown.
   void Finish();
 

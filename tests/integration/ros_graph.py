@@ -67,6 +67,13 @@ class Master:
                 raise AssertionError("%s did not subscribe to %s" % (node, topics))
             time.sleep(0.1)
 
+    def clear_params(self, namespace):
+        """Deletes the parameters under `namespace` (a node's private ones: what `_name:=value` set for an earlier
+        node of the same name stays on the parameter server and would be read by the next one)."""
+        code, _, present = self.api.hasParam("/test", namespace)
+        if code == 1 and present:
+            self.api.deleteParam("/test", namespace)
+
     def stop(self):
         if self.proc.poll() is None:
             os.kill(self.proc.pid, signal.SIGTERM)
