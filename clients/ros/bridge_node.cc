@@ -113,7 +113,7 @@ BridgeNode::BridgeNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodePara
       frames_client_(p.host, p.port, p.token, p.timeout_s),
       query_client_(p.host, p.port, p.token, p.timeout_s),
       session_(frames_client_, p.session),
-      listener_(tf_),
+      listener_(tf_, nh, false),  // tf on the spin thread, see bridge_node.h
       depth_sub_(nh, "depth/image", 30),
       depth_filter_(depth_sub_, tf_, p.map_frame, 30, nh) {
   depth_filter_.registerCallback(&BridgeNode::OnDepth, this);

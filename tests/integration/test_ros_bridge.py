@@ -359,7 +359,7 @@ class RosBridgeTest(unittest.TestCase):
         self.assertLessEqual(held, counts["stored"] + counts["failures"], message)
         # The models at B and at A again opened after the server came back, with all their frames.
         by_id = sorted(scenes, key=lambda s: s["id"])
-        self.assertEqual([s["persisted_frames"] for s in by_id[-2:]], MODEL_FRAMES[1:], by_id)
+        self.assertEqual([s["persisted_frames"] for s in by_id[-2:]], MODEL_FRAMES[1:], "%s\n%s" % (by_id, node.output()))
 
 
 if __name__ == "__main__":
