@@ -21,6 +21,9 @@
 #include "server/http_serving.h"
 #include "server/migrate_command.h"
 #include "server/tum_import.h"
+#ifdef ANCHORDB_WITH_ROSBAG
+#include "server/rosbag/rosbag_import.h"
+#endif
 #include "services/audit/audit_service.h"
 #include "services/jobs/forget_job.h"
 #include "storage/backup.h"
@@ -276,6 +279,8 @@ void Usage() {
                "  anchordb migrate-to NEW_FILE|postgresql://... --db file|postgresql://...   (copy a whole memory, verified)\n"
                "  anchordb import tum --db file --map ID --dir SEQUENCE [--every N] [--max-frames N] [--camera fr1|fr2|fr3]\n"
                "                      [--fx F --fy F --cx C --cy C] [--depth-scale 5000] [--max-dt 0.02] [--merge]\n"
+               "  anchordb import rosbag --db file --map ID --bag FILE.bag [--preset tum] [--depth-topic T] [--info-topic T]\n"
+               "                      [--map-frame F] [--every N] [--grid-topic T] [--mask-topic T] [--no-merge]\n"
                "  anchordb version\n\nsettings (also ANCHORDB_<NAME> environment variables):\n"
             << SettingsHelp();
 }
@@ -303,6 +308,13 @@ int Main(int argc, char** argv) {
       return ImportTumCommand(std::vector<std::string>(args.begin() + 2, args.end()), Environment());
     }
     if (args[0] == "migrate-to") return MigrateToCommand(std::vector<std::string>(args.begin() + 1, args.end()), Environment());
+    if (args.size() >= 2 && args[0] == "import" && args[1] == "rosbag") {
+#ifdef ANCHORDB_WITH_ROSBAG
+      return ImportRosbagCommand(std::vector<std::string>(args.begin() + 2, args.end()), Environment());
+#else
+      throw std::invalid_argument("import rosbag is not built in (the ROS 1 packages were missing at build time)");
+#endif
+    }
     if (args[0] == "backup") return BackupCommand(std::vector<std::string>(args.begin() + 1, args.end()));
     if (args.size() >= 2 && args[0] == "token" && args[1] == "create") {
       std::string role;

@@ -101,6 +101,18 @@ struct Client::Impl {
                         : method == "DELETE" ? http.Delete(path.c_str(), h)
                         : method == "PUT"    ? http.Put(path.c_str(), h, body, content_type.c_str())
                                              : http.Post(path.c_str(), h, body, content_type.c_str());
+    return Answer(r, method, path);
+  }
+
+  // A multipart/form-data request (PUT or POST) with `items` as its parts.
+  std::string SendParts(const std::string& method, const std::string& path, const httplib::MultipartFormDataItems& items) {
+    const auto h = Headers();
+    httplib::Result r = method == "PUT" ? http.Put(path.c_str(), h, items) : http.Post(path.c_str(), h, items);
+    return Answer(r, method, path);
+  }
+
+  // The body of a 2xx answer; TransportError without an answer, ApiError (the server's error document) otherwise.
+  static std::string Answer(httplib::Result& r, const std::string& method, const std::string& path) {
     if (!r) throw TransportError(method + " " + path + ": " + httplib::to_string(r.error()));
     if (r->status < 200 || r->status >= 300) {
       const Json doc = Json::parse(r->body, nullptr, false);
@@ -148,16 +160,7 @@ Json Client::ImportLayer(const std::string& map, const std::string& layer, const
   httplib::MultipartFormDataItems items = {
       {"yaml", yaml_text, layer + ".yaml", "application/yaml"},
       {"image", image_bytes, layer + (png ? ".png" : ".pgm"), png ? "image/png" : "image/x-portable-graymap"}};
-  const std::string path = MapPath(map) + "/layers/" + Escape(layer);
-  auto r = impl_->http.Put(path.c_str(), impl_->Headers(), items);
-  if (!r) throw TransportError("PUT " + path + ": " + httplib::to_string(r.error()));
-  if (r->status < 200 || r->status >= 300) {
-    const Json doc = Json::parse(r->body, nullptr, false);
-    const Json e = doc.is_object() && doc.contains("error") ? doc["error"] : Json::object();
-    throw ApiError(r->status, e.value("code", "http"), e.value("message", ""),
-                   e.contains("field") && e["field"].is_string() ? e["field"].get<std::string>() : "");
-  }
-  return Json::parse(r->body);
+  return Json::parse(impl_->SendParts("PUT", MapPath(map) + "/layers/" + Escape(layer), items));
 }
 
 Json Client::CreateLayer(const std::string& map, const std::string& layer, const Json& spec) {
@@ -170,17 +173,19 @@ std::string Client::ExportLayer(const std::string& map, const std::string& layer
 
 Json Client::ListLayers(const std::string& map) { return Request("GET", MapPath(map) + "/layers"); }
 
-Scene Client::OpenScene(const std::string& map, const Camera& c, const Pose& pose, bool merge, const Json& params) {
+Scene Client::OpenScene(const std::string& map, const Camera& c, const Pose& pose, bool merge, const Json& params,
+                        std::optional<std::int64_t> stamp_ns) {
   Json body = {{"camera", {{"width", c.width}, {"height", c.height}, {"fx", c.fx}, {"fy", c.fy}, {"cx", c.cx}, {"cy", c.cy}}},
                {"pose", {{"position", pose.position_m}, {"orientation", pose.orientation}}},
                {"merge", merge}};
   if (!params.is_null()) body["params"] = params;
+  if (stamp_ns) body["stamp"] = *stamp_ns;
   const Json r = Request("POST", MapPath(map) + "/scenes", body);
   return {r.at("id").get<std::int64_t>(), r.value("merge", Json()), r};
 }
 
 FrameResult Client::PostDepthFrame(const std::string& map, std::int64_t scene, const std::uint16_t* depth_mm, int width,
-                                   int height, std::optional<std::int64_t> stamp_ns) {
+                                   int height, std::optional<std::int64_t> stamp_ns, const std::string& dynamic_png) {
   if (!depth_mm || width <= 0 || height <= 0) throw std::invalid_argument("PostDepthFrame: no depth buffer");
   // Raw little-endian uint16, row-major (SPEC §1); written byte by byte so that the host's byte order does not matter.
   const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
@@ -191,7 +196,10 @@ FrameResult Client::PostDepthFrame(const std::string& map, std::int64_t scene, c
   }
   std::string path = MapPath(map) + "/scenes/" + std::to_string(scene) + "/frames";
   if (stamp_ns) path += "?stamp=" + std::to_string(*stamp_ns);
-  const Json r = Json::parse(impl_->Send("POST", path, body, "application/octet-stream"));
+  const Json r = Json::parse(dynamic_png.empty()
+                                 ? impl_->Send("POST", path, body, "application/octet-stream")
+                                 : impl_->SendParts("POST", path, {{"depth", body, "depth.raw", "application/octet-stream"},
+                                                                   {"dynamic", dynamic_png, "dynamic.png", "image/png"}}));
   return {r.value("frames", std::int64_t{0}), Opt<std::int64_t>(r, "keyframe"), r};
 }
 

@@ -143,12 +143,15 @@ class Client {
   std::string ExportLayer(const std::string& map, const std::string& layer, const std::string& format);
   Json ListLayers(const std::string& map);
 
-  // Scene models: open with camera and pose, frames from a uint16 millimetre buffer (row-major, width*height),
-  // close (the end keyframe; wait_for_analysis: the answer carries its change analysis).
+  // Scene models: open with camera and pose, frames from a uint16 millimetre buffer (row-major, width*height) with
+  // optionally an 8-bit PNG of the frame's dynamic pixels (nonzero: a person; the frame's dynamic input, sent as the
+  // multipart part "dynamic"), close (the end keyframe; wait_for_analysis: the answer carries its change analysis).
+  // stamp_ns: when the observation began (the first frame's sensor stamp); none: the server's clock.
   Scene OpenScene(const std::string& map, const Camera& camera, const Pose& pose, bool merge = true,
-                  const Json& params = nullptr);
+                  const Json& params = nullptr, std::optional<std::int64_t> stamp_ns = std::nullopt);
   FrameResult PostDepthFrame(const std::string& map, std::int64_t scene, const std::uint16_t* depth_mm, int width,
-                             int height, std::optional<std::int64_t> stamp_ns = std::nullopt);
+                             int height, std::optional<std::int64_t> stamp_ns = std::nullopt,
+                             const std::string& dynamic_png = "");
   Json CloseScene(const std::string& map, std::int64_t scene, bool wait_for_analysis = false);
   Json GetScene(const std::string& map, std::int64_t scene);
 
