@@ -8,6 +8,10 @@
       MANIFEST has one tab-separated line per wrk run: key, description, url, wrk output file, ss snapshot file,
       response body bytes, connections opened. Prints the side-by-side table with the ratios anchordb / peer and
       writes OUT_JSON.
+  bench_report.py engines OUT_JSON MANIFEST INGEST_SQLITE INGEST_POSTGRESQL
+      MANIFEST: key (<engine>_<route>), description, url, wrk output file per line; INGEST_*: the JSON lines of
+      anchordb_ingest_bench on each engine. Prints SQLite beside PostgreSQL with the ratios and the goals (reads on
+      PostgreSQL >= 0.5x SQLite's req/s; durable ingest >= 60 frames/s on both) and writes OUT_JSON.
 """
 import json
 import re
@@ -165,11 +169,65 @@ def http(out_path, manifest_path):
         f.write("\n")
 
 
+ENGINE_READ_RATIO_GOAL = 0.5
+INGEST_GOAL_FPS = 60.0
+
+
+def engines(out_path, manifest_path, ingest_sqlite, ingest_postgresql):
+    runs = {}
+    for line in open(manifest_path):
+        if not line.strip():
+            continue
+        key, description, url, wrk_path = line.rstrip("\n").split("\t")
+        w = parse_wrk(wrk_path)
+        seconds = w["duration_us"] / 1e6
+        runs[key] = {"description": description, "url": url, "requests": w["requests"],
+                     "requests_per_s": w["requests"] / seconds if seconds > 0 else 0.0,
+                     "latency_ms": {k: v / 1000.0 for k, v in w["latency_us"].items()},
+                     "errors": sum(w["errors"].values()), "error_kinds": w["errors"]}
+    ingest = {"sqlite": [json.loads(l) for l in open(ingest_sqlite) if l.strip()],
+              "postgresql": [json.loads(l) for l in open(ingest_postgresql) if l.strip()]}
+    print(f"{'':<28}{'SQLite req/s':>13}{'p50':>8}{'p99':>8}{'max ms':>9}{'PostgreSQL req/s':>18}{'p50':>8}{'p99':>8}"
+          f"{'max ms':>9}{'PG/SQLite':>11}{'errors':>8}")
+    ratios, verdicts = {}, []
+    for route, what, kind in (("layer", "GET layer metadata", "read"), ("where", "GET where?label=keys", "read"),
+                              ("label", "POST a label", "write")):
+        a, b = runs[f"sqlite_{route}"], runs[f"postgresql_{route}"]
+        ratio = b["requests_per_s"] / a["requests_per_s"] if a["requests_per_s"] else 0.0
+        ratios[route] = ratio
+        la, lb = a["latency_ms"], b["latency_ms"]
+        print(f"{what + ' (' + kind + ')':<28}{a['requests_per_s']:>13.0f}{la['p50']:>8.2f}{la['p99']:>8.2f}{la['max']:>9.1f}"
+              f"{b['requests_per_s']:>18.0f}{lb['p50']:>8.2f}{lb['p99']:>8.2f}{lb['max']:>9.1f}{ratio:>11.3f}"
+              f"{a['errors'] + b['errors']:>8}")
+        for r in (a, b):
+            if r["errors"]:
+                print(f"    {r['description']}: wrk counted errors {r['error_kinds']} (status: answers other than 2xx/3xx)")
+        if kind == "read":
+            verdicts.append(f"reads on PostgreSQL >= {ENGINE_READ_RATIO_GOAL}x SQLite, {what}: {ratio:.3f} -> "
+                            f"{'met' if ratio >= ENGINE_READ_RATIO_GOAL and not a['errors'] + b['errors'] else 'NOT met'}")
+    for engine, lines in ingest.items():
+        for r in lines:
+            ok = r["frames_per_s"] >= INGEST_GOAL_FPS
+            print(f"durable ingest on {engine}, {r['encoding']}: {r['frames_per_s']:.1f} frames/s (mean "
+                  f"{r['ms_per_frame']:.2f} ms, p99 {r.get('p99_ms', float('nan')):.2f} ms, worst "
+                  f"{r.get('max_ms', float('nan')):.2f} ms per frame)")
+            verdicts.append(f"durable ingest >= {INGEST_GOAL_FPS:g} frames/s on {engine}, {r['encoding']}: "
+                            f"{r['frames_per_s']:.1f} -> {'met' if ok else 'NOT met'}")
+    for v in verdicts:
+        print("goal: " + v)
+    with open(out_path, "w") as f:
+        json.dump({"runs": runs, "ratios_postgresql_over_sqlite": ratios, "ingest": ingest, "verdicts": verdicts}, f,
+                  indent=2)
+        f.write("\n")
+
+
 def main(argv):
     if len(argv) == 3 and argv[1] == "grid":
         grid(argv[2])
     elif len(argv) == 4 and argv[1] == "http":
         http(argv[2], argv[3])
+    elif len(argv) == 6 and argv[1] == "engines":
+        engines(*argv[2:6])
     else:
         print(__doc__, file=sys.stderr)
         return 2

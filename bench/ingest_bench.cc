@@ -8,10 +8,12 @@
 
 #include <httplib.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <vector>
 
 using namespace anchordb;
 
@@ -55,20 +57,26 @@ int main(int argc, char** argv) {
     const std::string path = "/v1/maps/ingest/scenes/" + id + "/frames";
     const bool is_png = std::strcmp(encoding, "png") == 0;
     std::size_t bytes = 0;
+    std::vector<double> frame_ms;
     const auto start = std::chrono::steady_clock::now();
     for (int i = 0; i < frames; ++i) {
       const std::string& b = is_png ? png[i % png.size()] : raw[i % raw.size()];
       bytes += b.size();
+      const auto sent = std::chrono::steady_clock::now();
       auto r = client.Post(path, b, is_png ? "image/png" : "application/octet-stream");
+      frame_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - sent).count());
       if (!r || r->status != 200) {
         std::fprintf(stderr, "frame %d failed: %s\n", i, r ? r->body.c_str() : "no response");
         return 1;
       }
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::sort(frame_ms.begin(), frame_ms.end());
+    const double p99_ms = frame_ms[std::min(frame_ms.size() - 1, static_cast<std::size_t>(0.99 * frame_ms.size()))];
     std::printf("{\"encoding\":\"%s\",\"journal\":\"%s\",\"frames\":%d,\"seconds\":%.3f,\"frames_per_s\":%.1f,"
-                "\"ms_per_frame\":%.3f,\"mean_body_bytes\":%zu}\n",
-                encoding, journal.c_str(), frames, seconds, frames / seconds, 1000.0 * seconds / frames, bytes / frames);
+                "\"ms_per_frame\":%.3f,\"p99_ms\":%.3f,\"max_ms\":%.3f,\"mean_body_bytes\":%zu}\n",
+                encoding, journal.c_str(), frames, seconds, frames / seconds, 1000.0 * seconds / frames, p99_ms,
+                frame_ms.back(), bytes / frames);
   }
   return 0;
 }

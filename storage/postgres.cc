@@ -205,12 +205,14 @@ PostgresConnection::~PostgresConnection() {
 }
 
 void PostgresConnection::EnsureConnected() const {
+  if (pending_results_) Drain();
   if (conn_ && PQstatus(conn_) == CONNECTION_OK) return;
+  pending_begin_.clear();  // the transaction it would have begun is gone with the session
   if (conn_) {
-    PQreset(conn_);
-  } else {
-    conn_ = PQconnectdb(uri_.c_str());
+    PQfinish(conn_);  // a fresh connection, not PQreset: no pipeline state survives
+    conn_ = nullptr;
   }
+  conn_ = PQconnectdb(uri_.c_str());
   prepared_.clear();  // a new server session knows none of them
   {
     std::lock_guard<std::mutex> lock(cancel_mutex_);
@@ -243,6 +245,84 @@ void PostgresConnection::ThrowResult(PGresult* result, std::string_view what) co
   throw Error(code, message);
 }
 
+void PostgresConnection::Drain() const {
+  pending_results_ = false;
+  if (!conn_ || PQstatus(conn_) != CONNECTION_OK) return;  // EnsureConnected reconnects
+  for (int nulls = 0; nulls < 4;) {  // ROLLBACK's result, its NULL, then the sync
+    PGresult* r = PQgetResult(conn_);
+    if (!r) {
+      ++nulls;  // between the results of the pipeline; several in a row: nothing more will come
+      continue;
+    }
+    const ExecStatusType status = PQresultStatus(r);
+    PQclear(r);
+    if (status == PGRES_PIPELINE_SYNC) break;
+    nulls = 0;
+  }
+  if (PQexitPipelineMode(conn_) != 1) {
+    PQfinish(conn_);  // a session in an unknown state is not reused
+    conn_ = nullptr;
+  }
+}
+
+void PostgresConnection::BeginRead() {
+  EnsureConnected();
+  pending_begin_ = "BEGIN ISOLATION LEVEL REPEATABLE READ READ ONLY";
+}
+
+void PostgresConnection::EndRead() {
+  if (!pending_begin_.empty()) {  // no statement ran: nothing was begun
+    pending_begin_.clear();
+    return;
+  }
+  if (!conn_ || PQstatus(conn_) != CONNECTION_OK) return;
+  if (PQenterPipelineMode(conn_) != 1 || PQsendQueryParams(conn_, "ROLLBACK", 0, nullptr, nullptr, nullptr, nullptr, 0) != 1 ||
+      PQpipelineSync(conn_) != 1) {
+    PQexitPipelineMode(conn_);
+    Exec("ROLLBACK");  // the plain way
+    return;
+  }
+  pending_results_ = true;
+}
+
+void PostgresConnection::SendPendingBegin() const {
+  if (pending_begin_.empty()) return;
+  const std::string begin = std::move(pending_begin_);
+  pending_begin_.clear();
+  PGresult* r = PQexec(conn_, begin.c_str());
+  if (PQresultStatus(r) != PGRES_COMMAND_OK) ThrowResult(r, "begin");
+  PQclear(r);
+}
+
+PGresult* PostgresConnection::ExecPreparedAfterBegin(const std::string& name, int parameters, const char* const* values,
+                                                     const int* lengths, const int* formats) const {
+  const std::string begin = std::move(pending_begin_);
+  pending_begin_.clear();
+  if (PQenterPipelineMode(conn_) != 1) ThrowResult(nullptr, "pipeline");
+  if (PQsendQueryParams(conn_, begin.c_str(), 0, nullptr, nullptr, nullptr, nullptr, 0) != 1 ||
+      PQsendQueryPrepared(conn_, name.c_str(), parameters, values, lengths, formats, 0) != 1 || PQpipelineSync(conn_) != 1) {
+    pending_results_ = true;  // whatever was sent is read (and the mode left) before the next use
+    ThrowResult(nullptr, "pipeline");
+  }
+  // BEGIN's result and its NULL, the statement's result and its NULL, then the sync.
+  PGresult* begun = PQgetResult(conn_);
+  PQclear(PQgetResult(conn_));
+  PGresult* result = PQgetResult(conn_);
+  if (result) PQclear(PQgetResult(conn_));
+  for (PGresult* r; (r = PQgetResult(conn_)) != nullptr;) {
+    const bool sync = PQresultStatus(r) == PGRES_PIPELINE_SYNC;
+    PQclear(r);
+    if (sync) break;
+  }
+  PQexitPipelineMode(conn_);
+  if (PQresultStatus(begun) != PGRES_COMMAND_OK) {
+    PQclear(result);
+    ThrowResult(begun, "begin");
+  }
+  PQclear(begun);
+  return result;
+}
+
 void PostgresConnection::BeginWrite() {
   Exec("BEGIN");
   try {
@@ -255,6 +335,7 @@ void PostgresConnection::BeginWrite() {
 
 void PostgresConnection::Exec(std::string_view sql) {
   EnsureConnected();
+  SendPendingBegin();
   PGresult* r = PQexec(conn_, std::string(sql).c_str());
   const ExecStatusType status = PQresultStatus(r);
   if (status != PGRES_COMMAND_OK && status != PGRES_TUPLES_OK) ThrowResult(r, "exec");
@@ -262,6 +343,8 @@ void PostgresConnection::Exec(std::string_view sql) {
 }
 
 bool PostgresConnection::InTransaction() const {
+  if (pending_results_) Drain();
+  if (!conn_) return false;
   const PGTransactionStatusType s = PQtransactionStatus(conn_);
   return s == PQTRANS_INTRANS || s == PQTRANS_INERROR || s == PQTRANS_ACTIVE;
 }
@@ -292,7 +375,8 @@ PGresult* PostgresConnection::Run(const std::string& sql, int parameters, const 
     PQclear(p);
     it = prepared_.emplace(std::move(key), name).first;
   }
-  PGresult* r = PQexecPrepared(conn_, it->second.c_str(), parameters, values, lengths, formats, 0);
+  PGresult* r = pending_begin_.empty() ? PQexecPrepared(conn_, it->second.c_str(), parameters, values, lengths, formats, 0)
+                                        : ExecPreparedAfterBegin(it->second, parameters, values, lengths, formats);
   const ExecStatusType status = PQresultStatus(r);
   if (status != PGRES_COMMAND_OK && status != PGRES_TUPLES_OK) ThrowResult(r, "step");
   const char* tuples = PQcmdTuples(r);

@@ -38,8 +38,11 @@ class PostgresConnection final : public Connection {
   // commit in the order they were given (an event stream's Last-Event-ID never skips a late commit). Waiting longer
   // than busy_timeout_ms fails as kOverloaded.
   void BeginWrite() override;
-  void BeginRead() override { Exec("BEGIN ISOLATION LEVEL REPEATABLE READ READ ONLY"); }
-  void EndRead() override { Exec("ROLLBACK"); }
+  // A read transaction costs no round trip of its own: BEGIN is sent in one pipeline with the first statement
+  // (libpq's pipeline mode), and the ROLLBACK that ends it is sent without waiting; its answer is read before the
+  // connection's next use. A read that ran no statement sends nothing.
+  void BeginRead() override;
+  void EndRead() override;
 
   // For the cursors of this connection: runs a prepared statement (preparing it once per SQL text and parameter
   // types) and answers its result; throws the mapped error.
@@ -51,6 +54,13 @@ class PostgresConnection final : public Connection {
   void Release(std::unique_ptr<Cursor> cursor) const override;
   // Reconnects a connection found broken (a restarted or failed-over server); throws kUnavailable when it cannot.
   void EnsureConnected() const;
+  // Reads the answers of a command sent without waiting (EndRead's ROLLBACK) and leaves pipeline mode.
+  void Drain() const;
+  // Sends the deferred BEGIN of a read transaction, alone (before an Exec).
+  void SendPendingBegin() const;
+  // Runs a prepared statement after the deferred BEGIN, both in one pipeline.
+  PGresult* ExecPreparedAfterBegin(const std::string& name, int parameters, const char* const* values,
+                                   const int* lengths, const int* formats) const;
   [[noreturn]] void ThrowResult(PGresult* result, std::string_view what) const;
 
   std::string uri_;
@@ -60,6 +70,8 @@ class PostgresConnection final : public Connection {
   mutable PGcancel* cancel_ = nullptr;
   mutable std::int64_t changes_ = 0;
   mutable std::map<std::string, std::string> prepared_;  // SQL + parameter types -> prepared statement name
+  mutable std::string pending_begin_;   // a read transaction's BEGIN, not yet sent
+  mutable bool pending_results_ = false;  // a command was sent in pipeline mode and its answers are not read yet
 };
 
 }  // namespace anchordb::storage
