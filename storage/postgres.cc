@@ -324,7 +324,13 @@ PGresult* PostgresConnection::ExecPreparedAfterBegin(const std::string& name, in
 }
 
 void PostgresConnection::BeginWrite() {
-  Exec("BEGIN");
+  try {
+    Exec("BEGIN");
+  } catch (const Error& e) {
+    // A session the server dropped while it was idle: BEGIN did nothing, so it is sent again on a new session.
+    if (e.code() != ErrorCode::kUnavailable || (conn_ && PQstatus(conn_) == CONNECTION_OK)) throw;
+    Exec("BEGIN");
+  }
   try {
     Exec("SELECT pg_advisory_xact_lock(7020658169314698338)");  // "anchordb" read as ASCII, as one 63-bit key
   } catch (...) {
@@ -364,6 +370,22 @@ void PostgresConnection::Interrupt() {
 PGresult* PostgresConnection::Run(const std::string& sql, int parameters, const Oid* types, const char* const* values,
                                   const int* lengths, const int* formats) const {
   EnsureConnected();
+  // The first statement of a read transaction on a session the server dropped meanwhile (a restart or failover
+  // while the connection was idle: libpq learns it only now) runs again on a new session: nothing was read or
+  // written yet. Any other statement's failure is the caller's (a write may have been applied before the loss).
+  const std::string begin = pending_begin_;
+  try {
+    return RunOnce(sql, parameters, types, values, lengths, formats);
+  } catch (const Error& e) {
+    if (begin.empty() || e.code() != ErrorCode::kUnavailable || (conn_ && PQstatus(conn_) == CONNECTION_OK)) throw;
+    EnsureConnected();
+    pending_begin_ = begin;
+    return RunOnce(sql, parameters, types, values, lengths, formats);
+  }
+}
+
+PGresult* PostgresConnection::RunOnce(const std::string& sql, int parameters, const Oid* types, const char* const* values,
+                                      const int* lengths, const int* formats) const {
   std::string key = sql;
   key += '\0';
   for (int k = 0; k < parameters; ++k) key += std::to_string(types[k]) + ",";

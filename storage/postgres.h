@@ -54,6 +54,8 @@ class PostgresConnection final : public Connection {
   void Release(std::unique_ptr<Cursor> cursor) const override;
   // Reconnects a connection found broken (a restarted or failed-over server); throws kUnavailable when it cannot.
   void EnsureConnected() const;
+  PGresult* RunOnce(const std::string& sql, int parameters, const Oid* types, const char* const* values,
+                    const int* lengths, const int* formats) const;
   // Reads the answers of a command sent without waiting (EndRead's ROLLBACK) and leaves pipeline mode.
   void Drain() const;
   // Sends the deferred BEGIN of a read transaction, alone (before an Exec).

@@ -289,6 +289,22 @@ def run_server_expecting_exit(args, timeout=20):
             " ".join(args), e.stdout)) from e
 
 
+def pg_scratch(test):
+    """A throwaway PostgreSQL 15 for `test` (scripts/pg-scratch in a temporary folder, stopped and removed by the
+    test's cleanup); returns (folder, URI of its empty database 'anchordb', the variables of its pg.env)."""
+    parent = tempfile.mkdtemp(prefix="anchordb-pg-")
+    os.chmod(parent, 0o755)  # the server runs as 'postgres' when the tests run as root
+    test.addCleanup(shutil.rmtree, parent, True)
+    folder = os.path.join(parent, "pg")
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "pg-scratch")
+    out = subprocess.run([script, "start", folder], capture_output=True, text=True, timeout=180)
+    test.assertEqual(out.returncode, 0, out.stderr)
+    test.addCleanup(subprocess.run, [script, "stop", folder], capture_output=True, timeout=120)
+    with open(os.path.join(folder, "pg.env"), encoding="utf-8") as f:
+        env = dict(line.rstrip("\n").split("=", 1) for line in f if "=" in line)
+    return folder, out.stdout.strip().splitlines()[-1], env
+
+
 # ---------------------------------------------------------------- small helpers shared by the tests
 
 def soundness(db_path):

@@ -14,8 +14,6 @@ import unittest
 
 import harness
 
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-PG_SCRATCH = os.path.join(ROOT, "scripts", "pg-scratch")
 MAP = "demo"
 
 
@@ -44,13 +42,8 @@ def snapshot(server):
 class MigrateToTest(unittest.TestCase):
     def setUp(self):
         self.tmp = tempfile.mkdtemp(prefix="anchordb-migrate-")
-        os.chmod(self.tmp, 0o755)  # the scratch server runs as 'postgres' when the tests run as root
         self.addCleanup(shutil.rmtree, self.tmp, True)
-        pg_dir = os.path.join(self.tmp, "pg")
-        out = subprocess.run([PG_SCRATCH, "start", pg_dir], capture_output=True, text=True, timeout=180)
-        self.assertEqual(out.returncode, 0, out.stderr)
-        self.addCleanup(subprocess.run, [PG_SCRATCH, "stop", pg_dir], capture_output=True, timeout=120)
-        self.pg_uri = out.stdout.strip().splitlines()[-1]
+        _, self.pg_uri, _ = harness.pg_scratch(self)
 
     def migrate(self, target, source):
         return harness.run_cli(["migrate-to", target, "--db", source], timeout=300)
