@@ -53,9 +53,55 @@ def clean_env():
     return {k: v for k, v in os.environ.items() if not k.startswith("ANCHORDB_")}
 
 
+# ---------------------------------------------------------------- the engine switch
+# With ANCHORDB_TEST_ENGINE=postgresql every database file a test names (servers, CLI commands) becomes a database
+# of its own on one scratch PostgreSQL 15 per test process (scripts/pg-scratch, stopped when the process exits);
+# the same path again gives the same database. Tests that open the SQLite file themselves stay SQLite's.
+_PG = {"folder": None, "uri": None, "env": None, "databases": {}}
+
+
+def _pg_database(path):
+    if _PG["uri"] is None:
+        import atexit
+        parent = tempfile.mkdtemp(prefix="anchordb-pg-")
+        os.chmod(parent, 0o755)  # the server runs as 'postgres' when the tests run as root
+        folder = os.path.join(parent, "pg")
+        script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "pg-scratch")
+        out = subprocess.run([script, "start", folder], capture_output=True, text=True, timeout=180)
+        if out.returncode != 0:
+            raise RuntimeError("scripts/pg-scratch start failed: " + out.stderr)
+        atexit.register(lambda: (subprocess.run([script, "stop", folder], capture_output=True, timeout=120),
+                                 shutil.rmtree(parent, True)))
+        _PG["uri"] = out.stdout.strip().splitlines()[-1]
+        with open(os.path.join(folder, "pg.env"), encoding="utf-8") as f:
+            _PG["env"] = dict(line.rstrip("\n").split("=", 1) for line in f if "=" in line)
+    if path not in _PG["databases"]:
+        name = "it_%d_%d" % (os.getpid(), len(_PG["databases"]) + 1)
+        env = _PG["env"]
+        psql = ["/usr/lib/postgresql/15/bin/psql", "-h", env["PGHOST"], "-p", env["PGPORT"], "-U", "postgres",
+                "-d", "postgres", "-qc", "CREATE DATABASE " + name]
+        out = subprocess.run((["runuser", "-u", "postgres", "--"] if os.getuid() == 0 else []) + psql,
+                             capture_output=True, text=True, timeout=60)
+        if out.returncode != 0:
+            raise RuntimeError("CREATE DATABASE failed: " + out.stderr)
+        _PG["databases"][path] = _PG["uri"].rsplit("/", 1)[0] + "/" + name
+    return _PG["databases"][path]
+
+
+def database_location(path):
+    """What a server or CLI command opens for the database file `path` (see the engine switch above)."""
+    if os.environ.get("ANCHORDB_TEST_ENGINE") != "postgresql" or path.startswith(("postgresql://", "postgres://")):
+        return path
+    return _pg_database(path)
+
+
 def run_cli(args, timeout=30):
     """Runs `$ANCHORDB_BIN args...`; returns CompletedProcess with text stdout/stderr."""
-    return subprocess.run([binary()] + list(args), capture_output=True, text=True, timeout=timeout, env=clean_env())
+    args = list(args)
+    for i in range(len(args) - 1):
+        if args[i] == "--db":
+            args[i + 1] = database_location(args[i + 1])
+    return subprocess.run([binary()] + args, capture_output=True, text=True, timeout=timeout, env=clean_env())
 
 
 def create_token(db_path, role):
@@ -147,7 +193,7 @@ class Server:
         self._starts += 1
         self._stderr_path = os.path.join(self.tmpdir, "stderr.%d.txt" % self._starts)
         self._stderr_file = open(self._stderr_path, "wb")
-        args = [binary(), "serve", "--db", self.db_path, "--port", "0"] + self.extra_args
+        args = [binary(), "serve", "--db", database_location(self.db_path), "--port", "0"] + self.extra_args
         self.expect_exit = False
         self.proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=self._stderr_file, env=clean_env(),
                                      cwd=self.tmpdir)
