@@ -1,5 +1,6 @@
 #include "storage/memory_copy.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "storage/catalog.h"
@@ -27,12 +28,18 @@ void HashTagged(std::uint64_t& h, char tag, const void* data, std::size_t size, 
   Hash(h, data, size);
 }
 
-std::string SelectAll(const TableInfo& t) {
+// Rows in key order, the same on both engines: text keys by their bytes (SQLite's BINARY; on PostgreSQL COLLATE "C",
+// whatever the database's own collation).
+std::string SelectAll(Engine engine, const TableInfo& t) {
   std::string sql = "SELECT ";
   for (std::size_t i = 0; i < t.columns.size(); ++i) sql += (i ? ", " : "") + QuoteIdentifier(t.columns[i].name);
   sql += " FROM " + QuoteIdentifier(t.name) + " ORDER BY ";
   const std::vector<std::string> order = t.OrderColumns();
-  for (std::size_t i = 0; i < order.size(); ++i) sql += (i ? ", " : "") + QuoteIdentifier(order[i]);
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    sql += (i ? ", " : "") + QuoteIdentifier(order[i]);
+    const auto column = std::find_if(t.columns.begin(), t.columns.end(), [&](const ColumnInfo& c) { return c.name == order[i]; });
+    if (engine == Engine::kPostgresql && column != t.columns.end() && column->kind == ValueKind::kText) sql += " COLLATE \"C\"";
+  }
   return sql;
 }
 
@@ -85,7 +92,7 @@ void Count(TableCensus& census, const Statement& s, int column, ValueKind kind) 
 
 TableCensus CensusOf(Connection& c, const TableInfo& t) {
   TableCensus census{t.name, 0, kFnvOffset, 0, kFnvOffset};
-  Statement s(c, SelectAll(t));
+  Statement s(c, SelectAll(c.engine(), t));
   while (s.Step()) {
     ++census.rows;
     for (std::size_t i = 0; i < t.columns.size(); ++i) Count(census, s, static_cast<int>(i), t.columns[i].kind);
@@ -162,7 +169,7 @@ CopyReport CopyMemory(Connection& from, Connection& to, const std::function<void
   for (std::size_t i = 0; i < tables.size(); ++i) {
     const TableInfo& t = tables[i];
     CopyProgress p{t.name, static_cast<int>(i + 1), static_cast<int>(tables.size()), 0, CountRows(from, t)};
-    Statement read(from, SelectAll(t));
+    Statement read(from, SelectAll(from.engine(), t));
     const std::string insert = InsertAll(t);
     while (read.Step()) {
       Statement write(to, insert);
