@@ -3,6 +3,7 @@
 #include <cmath>
 #include <variant>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -134,6 +135,12 @@ storage::StoreOptions StoreOptionsOf(const ServerOptions& c) {
   o.connection.synchronous = c.synchronous;
   o.reader_connections = c.reader_connections;
   return o;
+}
+
+void RequireExistingDatabase(const std::string& location) {
+  if (!storage::IsPostgresUri(location) && !std::filesystem::exists(location)) {
+    throw std::invalid_argument("no database at " + location);
+  }
 }
 
 bool TakeOption(const std::vector<std::string>& args, std::size_t& i, const std::string& name, std::string& value) {

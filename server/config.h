@@ -64,4 +64,8 @@ storage::StoreOptions StoreOptionsOf(const ServerOptions& c);
 // Throws std::invalid_argument when the value is missing.
 bool TakeOption(const std::vector<std::string>& args, std::size_t& i, const std::string& name, std::string& value);
 
+// A subcommand's --db must name a database that exists: a SQLite file that is there (a PostgreSQL URI is checked by
+// connecting). Throws std::invalid_argument("no database at ...") otherwise.
+void RequireExistingDatabase(const std::string& location);
+
 }  // namespace anchordb::server

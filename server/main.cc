@@ -207,9 +207,7 @@ int BackupCommand(const std::vector<std::string>& args) {
   }
   const Config config = LoadConfig(rest, Environment());
   if (!label.empty() && !json::IsValidId(label)) throw std::invalid_argument("--label: not a valid id: " + label);
-  if (!storage::IsPostgresUri(config.server.db) && !std::filesystem::exists(config.server.db)) {
-    throw std::invalid_argument("no database at " + config.server.db);
-  }
+  RequireExistingDatabase(config.server.db);
   if (out.empty()) {
     const std::int64_t now_ns =
         std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();

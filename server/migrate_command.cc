@@ -50,9 +50,7 @@ int MigrateToCommand(const std::vector<std::string>& args, const std::map<std::s
   const Config config = LoadConfig(rest, environment);
   const std::string& source = config.server.db;
   if (source == target) throw std::invalid_argument("migrate-to: the target is the source (" + Printable(source) + ")");
-  if (!storage::IsPostgresUri(source) && !std::filesystem::exists(source)) {
-    throw std::invalid_argument("no database at " + source);
-  }
+  RequireExistingDatabase(source);
   if (!storage::IsPostgresUri(target) && std::filesystem::exists(target)) {
     throw std::invalid_argument("migrate-to: " + target + " exists already; the target must be a new file");
   }

@@ -17,7 +17,6 @@
 #include "services/grid/grid_service.h"
 #include "services/octomap/octomap_service.h"
 #include "services/scene/scene_service.h"
-#include "storage/connection.h"
 
 namespace anchordb::server {
 namespace {
@@ -302,9 +301,7 @@ int ImportTumCommand(const std::vector<std::string>& args, const std::map<std::s
     throw std::invalid_argument(std::string("--map: ") + e.what());
   }
   const Config config = LoadConfig(rest, environment);
-  if (!storage::IsPostgresUri(config.server.db) && !fs::exists(config.server.db)) {
-    throw std::invalid_argument("no database at " + config.server.db);
-  }
+  RequireExistingDatabase(config.server.db);
   ImportTum(config, o, std::cout);
   return 0;
 }

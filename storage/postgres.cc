@@ -245,20 +245,24 @@ void PostgresConnection::ThrowResult(PGresult* result, std::string_view what) co
   throw Error(code, message);
 }
 
-void PostgresConnection::Drain() const {
-  pending_results_ = false;
-  if (!conn_ || PQstatus(conn_) != CONNECTION_OK) return;  // EnsureConnected reconnects
-  for (int nulls = 0; nulls < 4;) {  // ROLLBACK's result, its NULL, then the sync
+void PostgresConnection::ReadThroughSync() const {
+  for (int nulls = 0; nulls < 4;) {  // a NULL ends each command's results; several in a row: nothing more will come
     PGresult* r = PQgetResult(conn_);
     if (!r) {
-      ++nulls;  // between the results of the pipeline; several in a row: nothing more will come
+      ++nulls;
       continue;
     }
     const ExecStatusType status = PQresultStatus(r);
     PQclear(r);
-    if (status == PGRES_PIPELINE_SYNC) break;
+    if (status == PGRES_PIPELINE_SYNC) return;
     nulls = 0;
   }
+}
+
+void PostgresConnection::Drain() const {
+  pending_results_ = false;
+  if (!conn_ || PQstatus(conn_) != CONNECTION_OK) return;  // EnsureConnected reconnects
+  ReadThroughSync();  // ROLLBACK's result, then the sync
   if (PQexitPipelineMode(conn_) != 1) {
     PQfinish(conn_);  // a session in an unknown state is not reused
     conn_ = nullptr;
@@ -308,12 +312,7 @@ PGresult* PostgresConnection::ExecPreparedAfterBegin(const std::string& name, in
   PGresult* begun = PQgetResult(conn_);
   PQclear(PQgetResult(conn_));
   PGresult* result = PQgetResult(conn_);
-  if (result) PQclear(PQgetResult(conn_));
-  for (PGresult* r; (r = PQgetResult(conn_)) != nullptr;) {
-    const bool sync = PQresultStatus(r) == PGRES_PIPELINE_SYNC;
-    PQclear(r);
-    if (sync) break;
-  }
+  if (result) ReadThroughSync();
   PQexitPipelineMode(conn_);
   if (PQresultStatus(begun) != PGRES_COMMAND_OK) {
     PQclear(result);

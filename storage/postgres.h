@@ -56,6 +56,8 @@ class PostgresConnection final : public Connection {
   void EnsureConnected() const;
   PGresult* RunOnce(const std::string& sql, int parameters, const Oid* types, const char* const* values,
                     const int* lengths, const int* formats) const;
+  // Reads and drops the results of a pipeline up to and including its sync.
+  void ReadThroughSync() const;
   // Reads the answers of a command sent without waiting (EndRead's ROLLBACK) and leaves pipeline mode.
   void Drain() const;
   // Sends the deferred BEGIN of a read transaction, alone (before an Exec).

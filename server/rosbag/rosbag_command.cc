@@ -6,7 +6,6 @@
 #include "schema/error.h"
 #include "schema/json_io.h"
 #include "server/rosbag/rosbag_import.h"
-#include "storage/connection.h"
 
 namespace anchordb::server {
 namespace {
@@ -62,9 +61,7 @@ int ImportRosbagCommand(const std::vector<std::string>& args, const std::map<std
     throw std::invalid_argument(std::string("--map: ") + e.what());
   }
   const Config config = LoadConfig(rest, environment);
-  if (!storage::IsPostgresUri(config.server.db) && !std::filesystem::exists(config.server.db)) {
-    throw std::invalid_argument("no database at " + config.server.db);
-  }
+  RequireExistingDatabase(config.server.db);
   ImportRosbag(config, o, std::cout);
   return 0;
 }
