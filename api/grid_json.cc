@@ -1,4 +1,5 @@
 #include "api/grid_json.h"
+#include "api/layer_meta_json.h"
 #include "api/request_limits.h"
 
 #include <cmath>
@@ -231,8 +232,8 @@ Json ToJson(const LayerInfo& l) {
   Json out = {{"map", l.map},           {"name", l.name},             {"kind", LayerKindName(l.kind)},
               {"version", l.version},   {"created_ns", l.created_ns}, {"updated_ns", l.updated_ns},
               {"stored_bytes", l.stored_bytes}};
-  // The metadata document as stored (storage/layer_codec.h), key by key.
-  const Json meta = Json::parse(LayerMetaDocument(l.meta));
+  // The metadata (api/layer_meta_json.h), key by key.
+  const Json meta = LayerMetaJson(l.meta);
   for (const auto& [key, value] : meta.items()) out[key] = value;
   if (l.statistics) out["statistics"] = std::visit([](const auto& s) { return StatisticsJson(s); }, *l.statistics);
   return out;

@@ -2,6 +2,7 @@
 // (api/grid_json.h, api/route_params.h), call one GridService function, serialise its result.
 #include "api/grid_routes.h"
 
+#include "api/exported_bytes_http.h"
 #include "api/grid_json.h"
 #include "api/http_api.h"
 #include "api/route_params.h"
@@ -57,8 +58,7 @@ void RegisterLayerRoutes(Router& router, GridService& s) {
         if (format == "json") {
           return JsonResponse(ToJson(s.GetLayer(p["map"], p["layer"], QueryTrueFalse(req, "statistics", false))));
         }
-        ExportedLayer e = s.ExportLayer(p["map"], p["layer"], grid_json::ParseLayerFormat(format));
-        return Response{200, e.content_type, std::move(e.body), e.headers};
+        return BytesResponse(s.ExportLayer(p["map"], p["layer"], grid_json::ParseLayerFormat(format)));
       });
   router.Add("DELETE", "/v1/maps/{map}/layers/{layer}", Role::kAdmin, "Delete a layer nothing depends on",
       [&s](const httplib::Request&, const PathParams& p) {

@@ -2,6 +2,7 @@
 // insert clouds by ray casting, point / ray / box queries, operator box clears, occupied voxels as a cloud.
 #include "api/octomap_routes.h"
 
+#include "api/exported_bytes_http.h"
 #include "api/http_api.h"
 #include "api/octomap_json.h"
 #include "api/route_params.h"
@@ -27,8 +28,6 @@ TreeFileFormat ImportFormat(const httplib::Request& req) {
               "body");
 }
 
-Response Bytes(ExportedLayer e) { return {200, e.content_type, std::move(e.body), std::move(e.headers)}; }
-
 }  // namespace
 
 void RegisterOctomapRoutes(Router& router, OctomapService& s) {
@@ -46,8 +45,8 @@ void RegisterOctomapRoutes(Router& router, OctomapService& s) {
       [&s](const httplib::Request& req, const PathParams& p) {
         const std::string format = Query(req, "format").value_or("json");
         if (format == "json") return JsonResponse(ToJson(s.Get(p["map"])));
-        if (format == "bt" || format == "ot") return Bytes(s.Export(p["map"], octomap_json::ParseTreeFormat(format)));
-        return Bytes(s.ExportOccupiedCloud(p["map"], octomap_json::ParseCloudFormat(format)));
+        if (format == "bt" || format == "ot") return BytesResponse(s.Export(p["map"], octomap_json::ParseTreeFormat(format)));
+        return BytesResponse(s.ExportOccupiedCloud(p["map"], octomap_json::ParseCloudFormat(format)));
       });
   router.Add("POST", "/v1/maps/{map}/octomap/points", Role::kWriter,
       "Insert a point cloud (PCD ascii / binary / binary_compressed or PLY body, map frame) by ray casting from "
@@ -108,13 +107,13 @@ void RegisterOctomapRoutes(Router& router, OctomapService& s) {
       [&s](const httplib::Request& req, const PathParams& p) {
         const std::string frame = QueryChoice(req, "frame", {"map", "camera"}).value_or("map");
         const std::string image = QueryChoice(req, "image", {"depth", "background"}).value_or("depth");
-        return Bytes(s.KeyframeCloud(p["map"], PathId(p, "keyframe", "keyframe"), image == "background", frame == "map",
+        return BytesResponse(s.KeyframeCloud(p["map"], PathId(p, "keyframe", "keyframe"), image == "background", frame == "map",
                                      octomap_json::ParseCloudFormat(Query(req, "format").value_or("pcd"))));
       });
   router.Add("GET", "/v1/maps/{map}/events/{event}/cloud", Role::kReader,
       "The stored points (up to 256, map frame) of a change event's segment as PCD or PLY (format as for keyframes)",
       [&s](const httplib::Request& req, const PathParams& p) {
-        return Bytes(s.EventSegmentCloud(p["map"], PathId(p, "event", "event"),
+        return BytesResponse(s.EventSegmentCloud(p["map"], PathId(p, "event", "event"),
                                          octomap_json::ParseCloudFormat(Query(req, "format").value_or("pcd"))));
       });
   router.Add("POST", "/v1/maps/{map}/octomap:decay", Role::kAdmin,

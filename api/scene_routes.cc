@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "api/exported_bytes_http.h"
 #include "api/octomap_json.h"
 #include "api/route_params.h"
 #include "api/scene_json.h"
@@ -77,8 +78,6 @@ std::string LayerFormat(const httplib::Request& req) {
   }
   return format;
 }
-
-Response BytesResponse(ExportedLayer e) { return {200, e.content_type, std::move(e.body), std::move(e.headers)}; }
 
 Response SummaryResponse(const SceneLayerSummary& s) {
   return {200, "application/json", LayerSummaryJson(s).dump(),

@@ -2,6 +2,7 @@
 // .../furniture/{id}/cloud.
 #include "api/segmentation_routes.h"
 
+#include "api/exported_bytes_http.h"
 #include "api/http_api.h"
 #include "api/job_json.h"
 #include "api/octomap_json.h"
@@ -86,7 +87,7 @@ SegmentationRequest ParseCloudSegmentationRequest(const httplib::Request& req) {
   return r;
 }
 
-Json ToJson(const FurnitureInstanceView& v) {
+Json FurnitureInstanceJson(const FurnitureInstanceView& v) {
   Json categories = Json::array();
   for (const CategoryShare& c : v.categories) categories.push_back({{"category", c.category}, {"probability", c.probability}});
   return {{"id", v.id}, {"perceived", v.perceived}, {"label", v.label}, {"label_probability", v.label_probability},
@@ -115,20 +116,19 @@ void RegisterSegmentationRoutes(Router& router, FurnitureSegmentationService& s)
       "entered by an operator",
       [&s](const httplib::Request&, const PathParams& p) {
         Json items = Json::array();
-        for (const FurnitureInstanceView& v : s.List(p["map"])) items.push_back(ToJson(v));
+        for (const FurnitureInstanceView& v : s.List(p["map"])) items.push_back(FurnitureInstanceJson(v));
         return JsonResponse(Json{{"furniture", items}});
       });
   router.Add("GET", "/v1/maps/{map}/furniture/{furniture}", Role::kReader, "One furniture instance",
       [&s](const httplib::Request&, const PathParams& p) {
-        return JsonResponse(ToJson(s.Get(p["map"], PathId(p, "furniture", "furniture"))));
+        return JsonResponse(FurnitureInstanceJson(s.Get(p["map"], PathId(p, "furniture", "furniture"))));
       });
   router.Add("GET", "/v1/maps/{map}/furniture/{furniture}/cloud", Role::kReader,
       "The points (map frame, voxel-thinned) of the segment that last updated a perceived piece, as PCD or PLY "
       "(format as for keyframes)",
       [&s](const httplib::Request& req, const PathParams& p) {
-        ExportedLayer e = s.Cloud(p["map"], PathId(p, "furniture", "furniture"),
-                                  octomap_json::ParseCloudFormat(Query(req, "format").value_or("pcd")));
-        return Response{200, e.content_type, std::move(e.body), std::move(e.headers)};
+        return BytesResponse(s.Cloud(p["map"], PathId(p, "furniture", "furniture"),
+                                     octomap_json::ParseCloudFormat(Query(req, "format").value_or("pcd"))));
       });
 }
 

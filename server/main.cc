@@ -26,6 +26,7 @@
 #endif
 #include "services/audit/audit_service.h"
 #include "services/jobs/forget_job.h"
+#include "services/jobs/job_documents.h"
 #include "storage/backup.h"
 #include "storage/forgetting.h"
 #include "storage/repositories.h"
@@ -216,8 +217,9 @@ int BackupCommand(const std::vector<std::string>& args) {
   if (std::filesystem::exists(out)) throw std::invalid_argument("--out: " + out + " exists already");
   const storage::BackupReport report = storage::Backup(config.server.db, out, config.server.busy_timeout_ms);
   storage::Store store(StoreOptionsOf(config.server));
-  RecordCliAction(store, "backup.create", "", report.ToJson());
-  std::cout << report.ToJson().dump(1) << "\n";
+  const json::Json document = json::Json::parse(services::BackupReportDocument(report));
+  RecordCliAction(store, "backup.create", "", document);
+  std::cout << document.dump(1) << "\n";
   return 0;
 }
 
@@ -263,8 +265,9 @@ int Forget(const std::vector<std::string>& args) {
     if (e.code() == ErrorCode::kNotFound) throw std::invalid_argument(e.what());
     throw;
   }
-  RecordCliAction(store, "map.forget", map, report.ToJson());
-  std::cout << report.ToJson().dump(1) << "\n";
+  const json::Json document = json::Json::parse(services::ForgetReportDocument(report));
+  RecordCliAction(store, "map.forget", map, document);
+  std::cout << document.dump(1) << "\n";
   return 0;
 }
 

@@ -45,11 +45,6 @@ struct PartialFile {
 
 }  // namespace
 
-json::Json BackupReport::ToJson() const {
-  return {{"file", file},           {"bytes", bytes},         {"pages", pages},
-          {"restarts", restarts},   {"integrity", integrity}, {"duration_s", duration_s}};
-}
-
 std::string BackupFileName(const std::string& directory, const std::string& db_path, std::int64_t now_ns,
                            const std::string& label) {
   const std::time_t seconds = static_cast<std::time_t>(now_ns / 1'000'000'000);

@@ -9,7 +9,6 @@
 #include <functional>
 #include <string>
 
-#include "schema/json_io.h"
 
 namespace anchordb::storage {
 
@@ -20,7 +19,6 @@ struct BackupReport {
   int restarts = 0;             // times writers made SQLite start the copy again
   std::string integrity;        // "ok" (else the copy is deleted and Backup throws)
   double duration_s = 0.0;
-  json::Json ToJson() const;
 };
 
 // Called between steps with the fraction copied; may throw to abort (the partial file is removed).

@@ -12,8 +12,6 @@
 namespace anchordb::storage {
 namespace {
 
-using Json = nlohmann::json;
-
 // The database's size in pages (SQLite: the file's pages and its free list; PostgreSQL: the database's size in
 // blocks, and no free list of its own to report).
 std::int64_t PageSize(Connection& c);
@@ -64,8 +62,6 @@ class Stage {
   double from_, to_;
   std::size_t total_;
 };
-
-Json IdList(const std::vector<std::int64_t>& ids) { return Json(ids); }
 
 // 1. Superseded models whose superseder is stored and whose observation ended: drop the state blobs.
 void DropSupersededState(Connection& c, ForgetReport& r, const ForgetProgress& progress) {
@@ -178,10 +174,11 @@ void DeleteKeyframes(Connection& c, ForgetReport& r, std::int64_t cutoff, const 
   }
 }
 
-// 4. Forgotten superseded models without keyframes: the row goes too.
+// 4. Forgotten superseded models without keyframes: the row goes too (its estimate: the text columns plus about 280
+// bytes for the typed camera, pose and parameter columns and the row's own overhead).
 void DeleteEmptyModels(Connection& c, ForgetReport& r, const ForgetProgress& progress) {
   Statement select(c,
-                   "SELECT m.id, length(m.merge_report) + length(m.pose) + length(m.intrinsics) + length(m.params) + 128 "
+                   "SELECT m.id, length(m.merge_report) + COALESCE(length(m.pose_covariance), 0) + 280 "
                    "FROM scene_models m WHERE m.map_id = ? AND m.status = 'superseded' AND m.forgotten_ns IS NOT NULL "
                    "AND NOT EXISTS (SELECT 1 FROM keyframes k WHERE k.scene_id = m.id) ORDER BY m.id");
   select.Bind(1, r.map_id);
@@ -275,66 +272,6 @@ void Vacuum(Connection& c, ForgetReport& r, const ForgetProgress& progress) {
 }
 
 }  // namespace
-
-Json ToJson(const ForgetPolicy& p) {
-  return {{"superseded_models", p.drop_superseded},
-          {"keyframe_max_age_s", p.keyframe_max_age_s ? Json(*p.keyframe_max_age_s) : Json(nullptr)},
-          {"keep_relevance_at_least", p.keep_relevance_at_least},
-          {"event_max_age_s", p.event_max_age_s ? Json(*p.event_max_age_s) : Json(nullptr)},
-          {"vacuum", p.vacuum}};
-}
-
-Json ForgetReport::ToJson() const {
-  Json j = {
-      {"map", map_id},
-      {"dry_run", dry_run},
-      {"committed", committed},
-      {"now_ns", now_ns},
-      {"policy", storage::ToJson(policy)},
-      {"models_state_dropped", IdList(models_state_dropped)},
-      {"models_deleted", IdList(models_deleted)},
-      {"events_deleted", IdList(events_deleted)},
-      {"keyframes_deleted", IdList(keyframes_deleted)},
-      {"segments_deleted", IdList(segments_deleted)},
-      {"features_deduplicated", features_deduplicated},
-      {"counts",
-       {{"models_state_dropped", models_state_dropped.size()},
-        {"models_deleted", models_deleted.size()},
-        {"events_deleted", events_deleted.size()},
-        {"keyframes_deleted", keyframes_deleted.size()},
-        {"segments_deleted", segments_deleted.size()},
-        {"keyframes_of_abandoned_open_scenes_deleted", keyframes_of_abandoned_scenes},
-        {"features_deleted", features_deleted},
-        {"features_deduplicated", features_deduplicated}}},
-      {"kept",
-       {{"keyframes_pinned", keyframes_kept_pinned},
-        {"keyframes_relevant", keyframes_kept_relevant},
-        {"keyframes_referenced", keyframes_kept_referenced},
-        {"keyframes_of_open_scenes", keyframes_kept_open_scene},
-        {"events_pinned", events_kept_pinned},
-        {"events_labelled", events_kept_labelled},
-        {"events_latest_of_instance", events_kept_latest},
-        {"events_of_pinned_instances", events_kept_pinned_instance}}},
-      {"notes", {"features are de-duplicated on insert (settings features_dedup_*); features_deleted went with the "
-                 "deleted keyframes, features_deduplicated were exact repeats"}},
-      {"bytes_freed_estimate", bytes_freed_estimate},
-      {"pages",
-       {{"page_size", page_size},
-        {"before", {{"page_count", page_count_before}, {"freelist_count", freelist_before}}},
-        {"after", {{"page_count", page_count_after}, {"freelist_count", freelist_after}}}}},
-      {"seconds", seconds},
-  };
-  if (!vacuum_mode.empty()) {
-    j["vacuum"] = {{"mode", vacuum_mode}};
-    if (vacuum_mode != "skipped (dry run)") {
-      j["vacuum"]["file_bytes_before"] = file_bytes_before;
-      j["vacuum"]["file_bytes_after"] = file_bytes_after;
-      j["vacuum"]["page_count_after"] = page_count_after_vacuum;
-      j["vacuum"]["freelist_count_after"] = freelist_after_vacuum;
-    }
-  }
-  return j;
-}
 
 std::int64_t DatabaseFileBytes(const std::string& path) {
   std::int64_t total = 0;

@@ -17,8 +17,6 @@
 // vacuum (only when something was committed, never in a dry run): incremental_vacuum when the file is in
 // auto_vacuum=INCREMENTAL mode, otherwise a one-time switch (auto_vacuum=INCREMENTAL; VACUUM) outside any
 // transaction, then a WAL checkpoint (TRUNCATE) so the file shrinks on disk.
-#include <nlohmann/json.hpp>
-
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -30,9 +28,6 @@
 #include "storage/connection.h"
 
 namespace anchordb::storage {
-
-// The stored form of a policy (the job's request and the report carry it).
-nlohmann::json ToJson(const ForgetPolicy& policy);
 
 struct ForgetReport {
   std::string map_id;
@@ -64,8 +59,6 @@ struct ForgetReport {
   std::int64_t file_bytes_before = 0, file_bytes_after = 0;  // main file + WAL
   std::int64_t page_count_after_vacuum = 0, freelist_after_vacuum = 0;
   double seconds = 0.0;
-
-  nlohmann::json ToJson() const;
 };
 
 // stage, fraction in [0, 1]. It may throw to abort the run: the transaction rolls back and the exception propagates.

@@ -5,7 +5,7 @@
 
 #include "schema/error.h"
 #include "storage/blob_codec.h"
-#include "storage/layer_codec_json.h"
+#include "schema/json_io.h"
 
 namespace anchordb::storage {
 
@@ -94,7 +94,9 @@ void CheckCellCount(const std::vector<T>& cells, const GridGeometry& g) {
 
 }  // namespace
 
-// ---------------------------------------------------------------- metadata as JSON
+// ---------------------------------------------------------------- the stored metadata documents
+
+namespace {
 
 Json MetaToJson(const OccupancyLayerMeta& m) {
   return {{"geometry", json::ToJson(m.geometry)}, {"map_server", MapServerMetaToJson(m.map_server)},
@@ -118,33 +120,40 @@ Json MetaToJson(const LabelLayerMeta& m) {
   return {{"geometry", json::ToJson(m.geometry)}, {"base", m.base}, {"labels", labels}};
 }
 
+}  // namespace
+
+std::string EncodeLayerMeta(const OccupancyLayerMeta& meta) { return MetaToJson(meta).dump(); }
+std::string EncodeLayerMeta(const ProbabilityLayerMeta& meta) { return MetaToJson(meta).dump(); }
+std::string EncodeLayerMeta(const FusedLayerMeta& meta) { return MetaToJson(meta).dump(); }
+std::string EncodeLayerMeta(const LabelLayerMeta& meta) { return MetaToJson(meta).dump(); }
+
 // ---------------------------------------------------------------- encoders
 
 void EncodeLayer(const OccupancyLayer& layer, LayerRecord& record) {
   CheckCellCount(layer.image_pixels, layer.meta.geometry);
   record.kind = LayerKind::kOccupancy;
-  record.meta_json = MetaToJson(layer.meta).dump();
+  record.meta_json = EncodeLayerMeta(layer.meta);
   record.data = EncodeBlob(BlobElement::kU8, GridShape(layer.meta.geometry), AsBytes(layer.image_pixels));
 }
 
 void EncodeLayer(const ProbabilityLayer& layer, LayerRecord& record) {
   CheckCellCount(layer.log_odds, layer.meta.geometry);
   record.kind = LayerKind::kProbability;
-  record.meta_json = MetaToJson(layer.meta).dump();
+  record.meta_json = EncodeLayerMeta(layer.meta);
   // Level 1: observation updates rewrite this blob on every call; speed matters more than the last percent.
   record.data = EncodeBlob(BlobElement::kF32, GridShape(layer.meta.geometry), AsBytes(layer.log_odds), 1);
 }
 
 void EncodeLayer(const FusedLayerMeta& meta, LayerRecord& record) {
   record.kind = LayerKind::kFused;
-  record.meta_json = MetaToJson(meta).dump();
+  record.meta_json = EncodeLayerMeta(meta);
   record.data.clear();
 }
 
 void EncodeLayer(const LabelLayer& layer, LayerRecord& record) {
   CheckCellCount(layer.label_ids, layer.meta.geometry);
   record.kind = LayerKind::kLabel;
-  record.meta_json = MetaToJson(layer.meta).dump();
+  record.meta_json = EncodeLayerMeta(layer.meta);
   record.data = EncodeBlob(BlobElement::kU16, GridShape(layer.meta.geometry), AsBytes(layer.label_ids));
 }
 

@@ -64,6 +64,12 @@ void EncodeLayer(const ProbabilityLayer& layer, LayerRecord& record);
 void EncodeLayer(const FusedLayerMeta& meta, LayerRecord& record);
 void EncodeLayer(const LabelLayer& layer, LayerRecord& record);
 
+// The stored metadata document alone (what an encoder puts into record.meta_json).
+std::string EncodeLayerMeta(const OccupancyLayerMeta& meta);
+std::string EncodeLayerMeta(const ProbabilityLayerMeta& meta);
+std::string EncodeLayerMeta(const FusedLayerMeta& meta);
+std::string EncodeLayerMeta(const LabelLayerMeta& meta);
+
 // The metadata alone (the record may have been read without its blob).
 GridGeometry DecodeGeometry(const LayerRecord& record);
 OccupancyLayerMeta DecodeOccupancyMeta(const LayerRecord& record);

@@ -8,8 +8,9 @@ namespace anchordb::storage {
 namespace {
 
 constexpr const char* kSceneColumns =
-    "id, map_id, status, superseded_by, intrinsics, pose, x_m, y_m, z_m, params, merge_report, started_ns, ended_ns, "
-    "last_frame_ns, frames, state_version, forgotten_ns, pose_covariance";
+    "id, map_id, status, superseded_by, width_px, height_px, fx_px, fy_px, cx_px, cy_px, x_m, y_m, z_m, qx, qy, qz, qw, "
+    "beta, dynamic_mode, depth_scale, merge_report, started_ns, ended_ns, last_frame_ns, frames, state_version, "
+    "forgotten_ns, pose_covariance";
 
 SceneRecord ReadScene(Statement& s, bool with_state) {
   SceneRecord r;
@@ -17,24 +18,24 @@ SceneRecord ReadScene(Statement& s, bool with_state) {
   r.map_id = s.Text(1);
   r.status = s.Text(2);
   r.superseded_by = OptionalInt(s, 3);
-  r.intrinsics_json = s.Text(4);
-  r.pose_json = s.Text(5);
-  r.x_m = s.Double(6);
-  r.y_m = s.Double(7);
-  r.z_m = s.Double(8);
-  r.params_json = s.Text(9);
-  r.merge_report_json = s.Text(10);
-  r.started_ns = s.Int(11);
-  r.ended_ns = OptionalInt(s, 12);
-  r.last_frame_ns = OptionalInt(s, 13);
-  r.frames = s.Int(14);
-  r.state_version = s.Int(15);
-  r.forgotten_ns = OptionalInt(s, 16);
-  if (!s.IsNull(17)) r.pose_covariance_json = s.Text(17);
+  r.camera = {static_cast<int>(s.Int(4)), static_cast<int>(s.Int(5)), s.Double(6), s.Double(7), s.Double(8), s.Double(9)};
+  r.pose.position_m = {s.Double(10), s.Double(11), s.Double(12)};
+  r.pose.orientation = Eigen::Quaterniond(s.Double(16), s.Double(13), s.Double(14), s.Double(15));
+  r.beta = s.Double(17);
+  r.dynamic_mode = s.Text(18);
+  r.depth_scale = s.Double(19);
+  r.merge_report_json = s.Text(20);
+  r.started_ns = s.Int(21);
+  r.ended_ns = OptionalInt(s, 22);
+  r.last_frame_ns = OptionalInt(s, 23);
+  r.frames = s.Int(24);
+  r.state_version = s.Int(25);
+  r.forgotten_ns = OptionalInt(s, 26);
+  if (!s.IsNull(27)) r.pose_covariance_json = s.Text(27);
   if (with_state) {
-    r.background = s.Blob(18);
-    r.weight = s.Blob(19);
-    r.labels = s.Blob(20);
+    r.background = s.Blob(28);
+    r.weight = s.Blob(29);
+    r.labels = s.Blob(30);
   }
   return r;
 }
@@ -42,12 +43,17 @@ SceneRecord ReadScene(Statement& s, bool with_state) {
 }  // namespace
 
 std::int64_t InsertScene(Connection& c, const SceneRecord& r) {
-  Statement s(c, "INSERT INTO scene_models (map_id, status, intrinsics, pose, x_m, y_m, z_m, params, merge_report, "
-                 "started_ns, pose_covariance) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING id");
-  s.Bind(1, r.map_id).Bind(2, r.status).Bind(3, r.intrinsics_json).Bind(4, r.pose_json).Bind(5, r.x_m).Bind(6, r.y_m)
-      .Bind(7, r.z_m).Bind(8, r.params_json).Bind(9, r.merge_report_json).Bind(10, r.started_ns);
-  if (r.pose_covariance_json.empty()) s.BindNull(11);
-  else s.Bind(11, r.pose_covariance_json);
+  Statement s(c, "INSERT INTO scene_models (map_id, status, width_px, height_px, fx_px, fy_px, cx_px, cy_px, x_m, y_m, "
+                 "z_m, qx, qy, qz, qw, beta, dynamic_mode, depth_scale, merge_report, started_ns, pose_covariance) "
+                 "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING id");
+  const Eigen::Vector3d& t = r.pose.position_m;
+  const Eigen::Quaterniond& q = r.pose.orientation;
+  s.Bind(1, r.map_id).Bind(2, r.status).Bind(3, std::int64_t{r.camera.width}).Bind(4, std::int64_t{r.camera.height})
+      .Bind(5, r.camera.fx).Bind(6, r.camera.fy).Bind(7, r.camera.cx).Bind(8, r.camera.cy).Bind(9, t.x()).Bind(10, t.y())
+      .Bind(11, t.z()).Bind(12, q.x()).Bind(13, q.y()).Bind(14, q.z()).Bind(15, q.w()).Bind(16, r.beta)
+      .Bind(17, r.dynamic_mode).Bind(18, r.depth_scale).Bind(19, r.merge_report_json).Bind(20, r.started_ns);
+  if (r.pose_covariance_json.empty()) s.BindNull(21);
+  else s.Bind(21, r.pose_covariance_json);
   return s.RunReturningId();
 }
 

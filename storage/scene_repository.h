@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "schema/types.h"
 #include "storage/repositories.h"
 #include "storage/connection.h"
 
@@ -15,10 +16,13 @@ struct SceneRecord {
   std::string map_id;
   std::string status = "observing";
   std::optional<std::int64_t> superseded_by;
-  std::string intrinsics_json;
-  std::string pose_json;
-  double x_m = 0, y_m = 0, z_m = 0;
-  std::string params_json;
+  PinholeIntrinsics camera;  // width_px, height_px, fx_px, fy_px, cx_px, cy_px
+  Pose3 pose;                // the camera's optical frame in the map frame: x_m, y_m, z_m and qx, qy, qz, qw
+  // The model's parameters (thesis 3.2): theta(d) = beta * d; how the dynamic mask enters Algorithm 1 ("exclude" or
+  // "subtract"); depth units per metre of its frames.
+  double beta = 0.03;
+  std::string dynamic_mode = "exclude";
+  double depth_scale = 1000.0;
   std::string merge_report_json = "{}";
   std::int64_t started_ns = 0;
   std::optional<std::int64_t> ended_ns;

@@ -195,9 +195,4 @@ std::string EncodeCloud(const std::vector<Eigen::Vector3f>& points, CloudFormat 
   return file.Read();
 }
 
-const char* CloudContentType(CloudFormat format) {
-  return format == CloudFormat::kPlyAscii || format == CloudFormat::kPlyBinary ? "application/x-ply"
-                                                                                : "application/x-pcd";
-}
-
 }  // namespace anchordb::engine

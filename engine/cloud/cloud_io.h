@@ -26,6 +26,5 @@ struct DecodedCloud {
 // Decodes a PCD (any DATA kind) or PLY body; the kind is taken from its first bytes ("ply" or a PCD header).
 DecodedCloud DecodeCloud(std::string_view bytes, std::size_t max_points);
 std::string EncodeCloud(const std::vector<Eigen::Vector3f>& points, CloudFormat format);
-const char* CloudContentType(CloudFormat format);  // "application/x-pcd" or "application/x-ply"
 
 }  // namespace anchordb::engine

@@ -194,8 +194,7 @@ WhereAnswer EventService::Where(const std::string& map, const WhereRequest& requ
   engine::grounding::Viewpoint viewer;  // for plain geometry: the camera that saw the object last (else the origin)
   std::optional<std::int64_t> graph;    // the map's newest furniture graph
   WhereAnswer out = store_.Read([&](storage::Connection& c) {
-    RequireMap(c, map);
-    storage::InstanceFilter f;
+    storage::InstanceFilter f;  // the map is checked only when nothing is found (instances imply their map)
     f.kind = "object";
     f.label = label;
     f.limit = 100000;
@@ -232,6 +231,7 @@ WhereAnswer EventService::Where(const std::string& map, const WhereRequest& requ
       chosen = engine::ChooseWhereCandidate(candidates);
       label_source = "classifier";
     }
+    if (chosen < 0) RequireMap(c, map);
     if (chosen < 0) throw Error(ErrorCode::kNotFound, "nothing labelled '" + label + "' is known" + (at_ns ? " at that time" : ""), "label");
     const storage::InstanceRecord& best = instances[static_cast<std::size_t>(chosen)];
     const storage::HistoryRecord& h = *positions[static_cast<std::size_t>(chosen)];
@@ -245,7 +245,7 @@ WhereAnswer EventService::Where(const std::string& map, const WhereRequest& requ
     }
     if (best.last_scene_id) {
       if (const auto scene = storage::FindScene(c, map, *best.last_scene_id, false)) {
-        const Pose3 pose = json::AsPose3(Json::parse(scene->pose_json), "pose");
+        const Pose3& pose = scene->pose;
         const Eigen::Vector3d axis = pose.orientation * Eigen::Vector3d::UnitZ();  // the optical axis in the map
         viewer.position_m = pose.position_m.head<2>();
         viewer.heading_rad = std::atan2(axis.y(), axis.x());

@@ -48,12 +48,6 @@ std::vector<Eigen::Vector3f> DecodePoints(const std::string& blob) {
 std::vector<std::uint16_t> DecodeDepthMm(const std::string& blob, std::size_t count) { return DecodeArray<std::uint16_t>(blob, storage::BlobElement::kU16, count); }
 std::vector<float> DecodeF32(const std::string& blob) { return DecodeArray<float>(blob, storage::BlobElement::kF32, 0); }
 
-PinholeIntrinsics IntrinsicsOf(const std::string& intrinsics_json) {
-  const Json j = Json::parse(intrinsics_json);
-  return {j.at("width").get<int>(), j.at("height").get<int>(), j.at("fx").get<double>(),
-          j.at("fy").get<double>(), j.at("cx").get<double>(), j.at("cy").get<double>()};
-}
-
 EventView ToView(const storage::EventRecord& e) {
   EventView v;
   v.id = e.id;

@@ -28,7 +28,6 @@ std::vector<Eigen::Vector3f> DecodePoints(const std::string& blob);
 std::vector<std::uint16_t> DecodeDepthMm(const std::string& blob, std::size_t count = 0);
 std::vector<float> DecodeF32(const std::string& blob);
 // A scene's stored intrinsics document.
-PinholeIntrinsics IntrinsicsOf(const std::string& intrinsics_json);
 
 inline Eigen::Vector3d Vec(const double* v) { return {v[0], v[1], v[2]}; }
 

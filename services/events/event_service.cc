@@ -180,7 +180,7 @@ ReanalyseResult EventService::Reanalyse(const std::string& map, std::int64_t key
       if (!newer) throw Error(ErrorCode::kNotFound, "scene " + std::to_string(*request.scene_id) + " does not exist in map '" + map + "'", "scene");
     } else {
       storage::SceneFilter f;
-      f.near_m = json::AsPose3(Json::parse(own->pose_json), "pose").position_m;
+      f.near_m = own->pose.position_m;
       f.radius_m = engine::kReanalysisRadiusM;
       f.limit = engine::kReanalysisCandidates;
       std::vector<engine::ReanalysisCandidate> candidates;
@@ -194,15 +194,13 @@ ReanalyseResult EventService::Reanalyse(const std::string& map, std::int64_t key
     return Models{*kf, *own, *newer};
   });
   // The keyframe's raw depth against the newer background rendered into its camera.
-  const Pose3 own_pose = json::AsPose3(Json::parse(m.own.pose_json), "pose");
-  const PinholeIntrinsics K = IntrinsicsOf(m.own.intrinsics_json);
-  const Eigen::Isometry3d X_MC = engine::ToIsometry(own_pose);
+  const PinholeIntrinsics& K = m.own.camera;
+  const Eigen::Isometry3d X_MC = engine::ToIsometry(m.own.pose);
   const auto rendered = engine::RenderDepthMm(
-      engine::BackProject(DecodeF32(m.newer.background), IntrinsicsOf(m.newer.intrinsics_json),
-                          engine::ToIsometry(json::AsPose3(Json::parse(m.newer.pose_json), "pose"))), K, X_MC);
+      engine::BackProject(DecodeF32(m.newer.background), m.newer.camera, engine::ToIsometry(m.newer.pose)), K, X_MC);
   const std::vector<std::uint16_t> depth_mm = DecodeDepthMm(m.keyframe.depth);
   engine::ChangeParams p = settings_.change;
-  p.beta = Json::parse(m.own.params_json).value("beta", p.beta);
+  p.beta = m.own.beta;
   engine::ReanalysedKeyframe k;
   k.keyframe_id = m.keyframe.id;
   k.scene_id = m.keyframe.scene_id;

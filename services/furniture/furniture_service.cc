@@ -8,7 +8,7 @@
 #include "engine/grounding/ambiguity.h"
 #include "engine/grounding/orientation_prior.h"
 #include "engine/grounding/readings.h"
-#include "storage/hypotheses_codec.h"
+#include "services/furniture/hypotheses_records.h"
 #include "storage/event_repository.h"
 #include "storage/repositories.h"
 
@@ -109,7 +109,7 @@ GraphView FurnitureService::Create(const std::string& map, const CreateGraphRequ
   r.knowledge_json = knowledge_json_;
   r.graph_json = GraphDocument(graph->graph);
   r.created_ns = r.updated_ns = clock_.NowNs();
-  r.hypotheses = storage::EncodeHypotheses(graph->graph, graph->set);
+  r.hypotheses = EncodeHypotheses(graph->graph, graph->set);
   r.id = store_.Write([&](storage::Connection& c) {
     if (!storage::FindMap(c, map)) throw NoMap(map);
     return storage::InsertFurnitureGraph(c, r);
@@ -146,7 +146,7 @@ std::shared_ptr<FurnitureService::Graph> FurnitureService::Acquire(const std::st
   graph->viewpoint = ViewpointFromDocument(record->viewpoint_json);
   graph->graph = GraphFromDocument(record->graph_json);
   g::SetLineOfSight(graph->graph, graph->viewpoint, graph->params.relation_sharpness);
-  graph->set = storage::DecodeHypotheses(graph->graph, record->hypotheses);
+  graph->set = DecodeHypotheses(graph->graph, record->hypotheses);
   record->hypotheses.clear();
   graph->record = std::move(*record);
   std::lock_guard<std::mutex> lock(graphs_mutex_);
@@ -237,7 +237,7 @@ GroundingResult FurnitureService::Describe(const std::string& map, std::int64_t 
   std::vector<int> held_before;
   for (const g::HeldStep& h : graph->set.held) held_before.push_back(h.step);
   g::HypothesisSet next = g::Ground(graph->graph, graph->knowledge, graph->set, d, params);
-  const std::string blob = storage::EncodeHypotheses(graph->graph, next);
+  const std::string blob = EncodeHypotheses(graph->graph, next);
   const std::int64_t now = clock_.NowNs();
   store_.Write([&](storage::Connection& c) {
     storage::InsertGraphDescription(c, {id, next.step, DescriptionDocument(request), resolved.understood.located,
@@ -282,7 +282,7 @@ GraphView FurnitureService::Resolve(const std::string& map, std::int64_t id, con
   if (seq < 1 || seq > graph->set.step) throw Error(ErrorCode::kUnprocessable, "seq must name a grounded description", "seq");
   g::HypothesisSet next = graph->set;
   g::KeepPair(graph->graph, next, static_cast<int>(seq - 1), a, b, GroundingParamsOf(graph->params));
-  const std::string blob = storage::EncodeHypotheses(graph->graph, next);
+  const std::string blob = EncodeHypotheses(graph->graph, next);
   const std::int64_t now = clock_.NowNs();
   store_.Write([&](storage::Connection& c) {
     storage::UpdateFurnitureGraphState(c, id, next.step, blob, now, graph->record.state_version);
@@ -325,7 +325,7 @@ GraphView FurnitureService::Reset(const std::string& map, std::int64_t id) {
   auto graph = Acquire(map, id);
   std::lock_guard<std::mutex> lock(graph->mutex);
   g::HypothesisSet initial = g::InitialHypotheses(graph->graph);
-  const std::string blob = storage::EncodeHypotheses(graph->graph, initial);
+  const std::string blob = EncodeHypotheses(graph->graph, initial);
   const std::int64_t now = clock_.NowNs();
   store_.Write([&](storage::Connection& c) {
     storage::DeleteGraphDescriptions(c, id);

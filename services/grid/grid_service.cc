@@ -112,7 +112,7 @@ std::vector<LayerInfo> GridService::ListLayers(const std::string& map) {
 
 LayerInfo GridService::GetLayer(const std::string& map, const std::string& layer, bool with_statistics) {
   return store_.Read([&](storage::Connection& c) {
-    const MapLayers layers(c, map);
+    const MapLayers layers(c, map, /*check_map=*/false);
     const storage::LayerRecord record = layers.Require(layer, with_statistics);
     LayerInfo info = grid_detail::DescribeLayer(record);
     if (with_statistics) info.statistics = KindOps(record.kind).statistics(layers, record, defaults_.occupancy);
@@ -122,14 +122,14 @@ LayerInfo GridService::GetLayer(const std::string& map, const std::string& layer
 
 ExportedLayer GridService::ExportLayer(const std::string& map, const std::string& layer, LayerFormat format) {
   return store_.Read([&](storage::Connection& c) {
-    const MapLayers layers(c, map);
+    const MapLayers layers(c, map, /*check_map=*/false);
     const storage::LayerRecord record = layers.Require(layer);
     const GridGeometry g = storage::DecodeGeometry(record);
     std::optional<ExportedLayer> own = KindOps(record.kind).export_own(record, format);
     ExportedLayer out = own ? std::move(*own) : grid_detail::ExportProbability(layers.Probability(record), layer, format);
-    out.headers["X-Grid-Width"] = std::to_string(g.width_cells);
-    out.headers["X-Grid-Height"] = std::to_string(g.height_cells);
-    out.headers["X-Layer-Version"] = std::to_string(record.version);
+    out.grid_width_cells = g.width_cells;
+    out.grid_height_cells = g.height_cells;
+    out.layer_version = record.version;
     return out;
   });
 }

@@ -51,7 +51,7 @@ class GridService {
   LayerInfo CreateLayer(const CreateLayerRequest& request);
   std::vector<LayerInfo> ListLayers(const std::string& map);  // without statistics, in name order
   LayerInfo GetLayer(const std::string& map, const std::string& layer, bool with_statistics);
-  // Content type, bytes and X-Grid-Width/-Height, X-Layer-Version (and X-Element for raw) headers.
+  // The bytes in `format`, with the grid's size, the layer's version (and the element type of raw).
   ExportedLayer ExportLayer(const std::string& map, const std::string& layer, LayerFormat format);
   void DeleteLayer(const std::string& map, const std::string& layer);  // kConflict while others depend on it
   ObservationResult Observe(const ObserveRequest& request);

@@ -100,9 +100,6 @@ struct CreateLayerRequest {
 // What each kind keeps besides its cells (storage/layer_codec.h); the alternative matches LayerInfo::kind.
 using LayerMeta = std::variant<storage::OccupancyLayerMeta, storage::ProbabilityLayerMeta, storage::FusedLayerMeta,
                                storage::LabelLayerMeta>;
-// The metadata document of a layer as the store keeps it (a JSON object, serialised), which the API shows key by key
-// beside the record's fields.
-std::string LayerMetaDocument(const LayerMeta& meta);
 // Occupancy layers count cells per class, label layers cells per label, the others summarise probabilities.
 using LayerStatistics =
     std::variant<engine::OccupancyStatistics, engine::ProbabilityStatistics, engine::LabelStatistics>;

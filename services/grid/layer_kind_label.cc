@@ -32,10 +32,12 @@ LayerStatistics Statistics(const MapLayers&, const storage::LayerRecord& record,
 
 // png shows each label in its colour, raw the stored ids; pgm and YAML show where any label is.
 std::optional<ExportedLayer> ExportOwn(const storage::LayerRecord& record, LayerFormat format) {
-  if (format == LayerFormat::kPng) return ExportedLayer{"image/png", engine::RenderLabelsPng(Labels(record)), {}};
+  if (format == LayerFormat::kPng) {
+    return ExportedLayer{.format = BytesFormat::kPng, .body = engine::RenderLabelsPng(Labels(record))};
+  }
   if (format != LayerFormat::kRaw) return std::nullopt;
-  return ExportedLayer{"application/octet-stream", std::string(storage::AsBytes(Labels(record).cells)),
-                       {{"X-Element", "u16-label-cell-order"}}};
+  return ExportedLayer{.format = BytesFormat::kRaw, .body = std::string(storage::AsBytes(Labels(record).cells)),
+                       .element = RawElement::kU16LabelCellOrder};
 }
 
 std::string OccupancyBase(const MapLayers&, const storage::LayerRecord& record) {

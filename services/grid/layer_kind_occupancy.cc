@@ -20,14 +20,15 @@ LayerStatistics Statistics(const MapLayers&, const storage::LayerRecord& record,
 std::optional<ExportedLayer> ExportOwn(const storage::LayerRecord& record, LayerFormat format) {
   OccupancyView view = DecodeOccupancyView(record);
   switch (format) {
-    case LayerFormat::kPng: return ExportedLayer{"image/png", engine::EncodePng(view.image), {}};
-    case LayerFormat::kPgm: return ExportedLayer{"image/x-portable-graymap", engine::EncodePgm(view.image), {}};
+    case LayerFormat::kPng: return ExportedLayer{.format = BytesFormat::kPng, .body = engine::EncodePng(view.image)};
+    case LayerFormat::kPgm: return ExportedLayer{.format = BytesFormat::kPgm, .body = engine::EncodePgm(view.image)};
     case LayerFormat::kYaml:
       view.map_server.image = record.name + ".pgm";
-      return ExportedLayer{"application/yaml", engine::EmitMapServerYaml(view.map_server), {}};
+      return ExportedLayer{.format = BytesFormat::kMapServerYaml, .body = engine::EmitMapServerYaml(view.map_server)};
     case LayerFormat::kRaw:
-      return ExportedLayer{"application/octet-stream", std::string(view.image.pixels.begin(), view.image.pixels.end()),
-                           {{"X-Element", "u8-image-order"}}};
+      return ExportedLayer{.format = BytesFormat::kRaw,
+                           .body = std::string(view.image.pixels.begin(), view.image.pixels.end()),
+                           .element = RawElement::kU8ImageOrder};
   }
   return std::nullopt;
 }

@@ -32,8 +32,8 @@ LayerStatistics Statistics(const MapLayers& layers, const storage::LayerRecord& 
 std::optional<ExportedLayer> ExportOwn(const storage::LayerRecord& record, LayerFormat format) {
   if (format != LayerFormat::kRaw) return std::nullopt;
   const storage::ProbabilityLayer layer = storage::DecodeProbabilityLayer(record);
-  return ExportedLayer{"application/octet-stream", std::string(storage::AsBytes(layer.log_odds)),
-                       {{"X-Element", "f32-log-odds-cell-order"}}};
+  return ExportedLayer{.format = BytesFormat::kRaw, .body = std::string(storage::AsBytes(layer.log_odds)),
+                       .element = RawElement::kF32LogOddsCellOrder};
 }
 
 std::string OccupancyBase(const MapLayers&, const storage::LayerRecord& record) {

@@ -28,10 +28,13 @@ LayerKind KindOf(const LayerSpec& spec) {
 // ---------------------------------------------------------------- MapLayers
 
 
-MapLayers::MapLayers(storage::Connection& c, const std::string& map) : c_(c), map_(map) { RequireMap(c, map); }
+MapLayers::MapLayers(storage::Connection& c, const std::string& map, bool check_map) : c_(c), map_(map) {
+  if (check_map) RequireMap(c, map);
+}
 
 storage::LayerRecord MapLayers::Require(const std::string& layer, bool with_data) const {
   auto record = storage::FindLayer(c_, map_, layer, with_data);
+  if (!record) RequireMap(c_, map_);  // a layer row implies its map (foreign key): checked only on a miss
   if (!record) throw Error(ErrorCode::kNotFound, "layer '" + layer + "' does not exist in map '" + map_ + "'", "layer");
   return std::move(*record);
 }
@@ -71,15 +74,16 @@ LayerInfo DescribeLayer(const storage::LayerRecord& record) {
 ExportedLayer ExportProbability(const engine::ProbabilityGrid& probability, const std::string& layer,
                                 LayerFormat format) {
   switch (format) {
-    case LayerFormat::kPng: return {"image/png", engine::EncodePng(engine::ProbabilityToImage(probability)), {}};
+    case LayerFormat::kPng: return {.format = BytesFormat::kPng, .body = engine::EncodePng(engine::ProbabilityToImage(probability))};
     case LayerFormat::kPgm:
-      return {"image/x-portable-graymap", engine::EncodePgm(engine::ProbabilityToImage(probability)), {}};
+      return {.format = BytesFormat::kPgm, .body = engine::EncodePgm(engine::ProbabilityToImage(probability))};
     case LayerFormat::kYaml:
-      return {"application/yaml", engine::EmitMapServerYaml(engine::ScaleModeMeta(probability.geometry, layer + ".pgm")),
-              {}};
+      return {.format = BytesFormat::kMapServerYaml,
+              .body = engine::EmitMapServerYaml(engine::ScaleModeMeta(probability.geometry, layer + ".pgm"))};
     case LayerFormat::kRaw: {
       const engine::MaskGrid mask = engine::TrueCells(probability);
-      return {"application/octet-stream", std::string(storage::AsBytes(mask.cells)), {{"X-Element", "u8-mask-cell-order"}}};
+      return {.format = BytesFormat::kRaw, .body = std::string(storage::AsBytes(mask.cells)),
+              .element = RawElement::kU8MaskCellOrder};
     }
   }
   throw Error(ErrorCode::kInternal, "unknown layer format");

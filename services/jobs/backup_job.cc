@@ -8,6 +8,7 @@
 
 #include "schema/error.h"
 #include "schema/json_io.h"
+#include "services/jobs/job_documents.h"
 #include "storage/backup.h"
 #include "storage/connection.h"
 
@@ -44,7 +45,7 @@ JobKind BackupJobKind(const std::string& db_path, const JobSettings& settings) {
     });
     // The job is recorded succeeded before it ends; when that write fails the copy is removed, so a failed backup
     // job never leaves a file (and its retry can take the same name).
-    const std::string result = report.ToJson().dump();
+    const std::string result = BackupReportDocument(report);
     try {
       storage::ConnectionOptions options;
       options.busy_timeout_ms = timeout_ms;

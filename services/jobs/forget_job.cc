@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "schema/error.h"
+#include "services/jobs/job_documents.h"
 #include "storage/forgetting.h"
 
 namespace anchordb::services {
@@ -20,7 +21,7 @@ void CheckAge(const std::optional<double>& age_s, const std::string& field) {
 }
 
 std::string EncodeForgetRequest(const storage::ForgetRequest& r) {
-  Json stored = {{"policy", storage::ToJson(r.policy)}, {"dry_run", r.dry_run}};
+  Json stored = {{"policy", Json::parse(ForgetPolicyDocument(r.policy))}, {"dry_run", r.dry_run}};
   if (r.now_ns) stored["now"] = *r.now_ns;
   return stored.dump();
 }
@@ -60,14 +61,14 @@ std::optional<std::string> RunForget(JobContext& job, const std::string& db_path
   const auto before_commit = [&](storage::Connection& c, const storage::ForgetReport& report) {
     // Recorded with the deletions: a kill after this commit finds the job done (or, with a vacuum still to run,
     // 'running' in stage vacuum with the committed result, which start-up marks failed/interrupted).
-    const std::string result = report.ToJson().dump();
+    const std::string result = ForgetReportDocument(report);
     if (request.policy.vacuum) job.Record(c, JobStatus::kRunning, "vacuum", 0.9, &result);
     else job.Record(c, JobStatus::kSucceeded, "done", 1.0, &result);
   };
   const storage::ForgetReport report = storage::Forget(connection, job.map().value_or(""), request.policy,
                                                        request.now_ns.value_or(job.NowNs()), request.dry_run, progress,
                                                        before_commit);
-  if (request.dry_run || request.policy.vacuum) return report.ToJson().dump();
+  if (request.dry_run || request.policy.vacuum) return ForgetReportDocument(report);
   return std::nullopt;  // recorded with the deletions
 }
 

@@ -1,6 +1,7 @@
 // Point clouds out of the memory (SPEC 4.9): keyframes and event segments as PCD / PLY.
 #include "engine/scene/projection.h"
 #include "schema/error.h"
+#include "services/common/cloud_bytes.h"
 #include "services/common/require.h"
 #include "services/octomap/octomap_service.h"
 #include "services/scene/keyframe_listener.h"
@@ -8,18 +9,6 @@
 #include "storage/event_repository.h"
 
 namespace anchordb::services {
-
-namespace {
-
-ExportedLayer CloudOut(const std::vector<Eigen::Vector3f>& points, engine::CloudFormat format) {
-  ExportedLayer out;
-  out.content_type = engine::CloudContentType(format);
-  out.body = engine::EncodeCloud(points, format);
-  out.headers["X-Points"] = std::to_string(points.size());
-  return out;
-}
-
-}  // namespace
 
 ExportedLayer OctomapService::KeyframeCloud(const std::string& map, std::int64_t keyframe_id, bool background,
                                             bool map_frame, engine::CloudFormat format) {
@@ -32,9 +21,9 @@ ExportedLayer OctomapService::KeyframeCloud(const std::string& map, std::int64_t
                 "keyframe");
   }
   const Eigen::Isometry3d X = map_frame ? kf->X_MapCamera : Eigen::Isometry3d::Identity();
-  ExportedLayer out = CloudOut(engine::BackProjectRaw(background ? kf->background_mm : kf->depth_mm, 1000.0, kf->K, X),
+  ExportedLayer out = CloudBytes(engine::BackProjectRaw(background ? kf->background_mm : kf->depth_mm, 1000.0, kf->K, X),
                                format);
-  out.headers["X-Frame"] = map_frame ? "map" : "camera";
+  out.frame = map_frame ? CoordinateFrame::kMap : CoordinateFrame::kCamera;
   return out;
 }
 
@@ -58,7 +47,7 @@ ExportedLayer OctomapService::EventSegmentCloud(const std::string& map, std::int
     if (!xyz || xyz->size() % 3 != 0) throw Error(ErrorCode::kInternal, "a stored segment sample does not decode");
     for (std::size_t i = 0; i + 2 < xyz->size(); i += 3) points.emplace_back((*xyz)[i], (*xyz)[i + 1], (*xyz)[i + 2]);
   }
-  return CloudOut(points, format);
+  return CloudBytes(points, format);
 }
 
 }  // namespace anchordb::services

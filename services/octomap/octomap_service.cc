@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "schema/error.h"
+#include "services/common/cloud_bytes.h"
 #include "services/common/require.h"
 #include "storage/octomap_repository.h"
 
@@ -240,11 +241,10 @@ OctomapInfo OctomapService::Get(const std::string& map) {
 ExportedLayer OctomapService::Export(const std::string& map, TreeFileFormat format) {
   return Inspect(map, [&](Entry& e) {
     ExportedLayer out;
-    out.content_type = "application/octet-stream";
+    out.format = BytesFormat::kOctomapBinary;
     out.body = format == TreeFileFormat::kBt ? e.tree.WriteBt() : e.tree.WriteOt();
-    out.headers["X-Octomap-Version"] = std::to_string(e.version);
-    out.headers["Content-Disposition"] =
-        std::string("attachment; filename=\"") + map + (format == TreeFileFormat::kBt ? ".bt\"" : ".ot\"");
+    out.octomap_version = e.version;
+    out.file_name = map + (format == TreeFileFormat::kBt ? ".bt" : ".ot");
     return out;
   });
 }
@@ -254,11 +254,8 @@ ExportedLayer OctomapService::ExportOccupiedCloud(const std::string& map, engine
   std::vector<Eigen::Vector3f> points;
   points.reserve(voxels.voxels.size());
   for (const engine::Voxel& v : voxels.voxels) points.push_back(v.center_M.cast<float>());
-  ExportedLayer out;
-  out.content_type = engine::CloudContentType(format);
-  out.body = engine::EncodeCloud(points, format);
-  out.headers["X-Points"] = std::to_string(points.size());
-  if (voxels.truncated) out.headers["X-Truncated"] = "true";
+  ExportedLayer out = CloudBytes(points, format);
+  out.truncated = voxels.truncated;
   return out;
 }
 

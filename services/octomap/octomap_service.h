@@ -35,7 +35,7 @@ class OctomapService {
   // Replaces the map's tree by a decoded .bt / .ot file (its resolution); the sensor model stays.
   OctomapInfo Import(const std::string& map, TreeFileFormat format, const std::string& bytes);
   OctomapInfo Get(const std::string& map);
-  // The tree as .bt or .ot ("application/octet-stream", X-Octomap-Version header).
+  // The tree as .bt or .ot, with its version and a file name.
   ExportedLayer Export(const std::string& map, TreeFileFormat format);
   // The occupied voxel centres as a point cloud (at most max_voxels; X-Truncated header when cut).
   ExportedLayer ExportOccupiedCloud(const std::string& map, engine::CloudFormat format);

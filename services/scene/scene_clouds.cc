@@ -1,6 +1,7 @@
 // A scene model's layers as point clouds (SPEC 4.9): the static background, or the movable pixels at the depth of
 // the latest frame that labelled them, back-projected with the model's camera.
 #include "engine/cloud/cloud_io.h"
+#include "services/common/cloud_bytes.h"
 #include "engine/scene/projection.h"
 #include "services/scene/scene_service.h"
 #include "services/scene/scene_service_internal.h"
@@ -19,7 +20,7 @@ ExportedLayer SceneService::LayerCloud(const std::string& map, std::int64_t id, 
   const engine::SceneModelState& s = model->state;
   const auto& corrected = model->merge.X_MapCamera_corrected;
   const Eigen::Isometry3d X_MapCamera =
-      engine::ToIsometry(corrected ? *corrected : StoredPose(model->record.pose_json));
+      engine::ToIsometry(corrected ? *corrected : model->record.pose);
   const Eigen::Isometry3d X = map_frame ? X_MapCamera : Eigen::Isometry3d::Identity();
   std::vector<Eigen::Vector3f> points;
   if (layer == SceneLayerKind::kStatic) {
@@ -45,11 +46,9 @@ ExportedLayer SceneService::LayerCloud(const std::string& map, std::int64_t id, 
       points = engine::BackProjectRaw(depth_mm, 1000.0, model->K, X);
     }
   }
-  ExportedLayer out;
-  out.content_type = engine::CloudContentType(format);
-  out.body = engine::EncodeCloud(points, format);
-  out.headers = {{"X-Points", std::to_string(points.size())}, {"X-Frame", map_frame ? "map" : "camera"},
-                 {"X-Scene-Frames", std::to_string(s.frames)}};
+  ExportedLayer out = CloudBytes(points, format);
+  out.frame = map_frame ? CoordinateFrame::kMap : CoordinateFrame::kCamera;
+  out.scene_frames = s.frames;
   return out;
 }
 

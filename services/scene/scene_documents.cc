@@ -82,19 +82,7 @@ MergedModel MergedModelFromDocument(const Json& j) {
   return r;
 }
 
-}  // namespace
-
-Json CameraDocument(const PinholeIntrinsics& K) {
-  return {{"width", K.width}, {"height", K.height}, {"fx", K.fx}, {"fy", K.fy}, {"cx", K.cx}, {"cy", K.cy}};
-}
-
-PinholeIntrinsics CameraFromDocument(const Json& j) {
-  return {j.at("width").get<int>(), j.at("height").get<int>(), j.at("fx").get<double>(), j.at("fy").get<double>(),
-          j.at("cx").get<double>(), j.at("cy").get<double>()};
-}
-
-Json PoseDocument(const Pose3& pose) { return json::ToJson(pose); }
-
+// The corrected pose a merge report holds, read back exactly as written (no renormalisation).
 Pose3 PoseFromDocument(const Json& j) {
   const Json& p = j.at("position");
   const Json& q = j.at("orientation");
@@ -104,19 +92,18 @@ Pose3 PoseFromDocument(const Json& j) {
   return pose;
 }
 
+}  // namespace
+
+Json CameraDocument(const PinholeIntrinsics& K) {
+  return {{"width", K.width}, {"height", K.height}, {"fx", K.fx}, {"fy", K.fy}, {"cx", K.cx}, {"cy", K.cy}};
+}
+
+Json PoseDocument(const Pose3& pose) { return json::ToJson(pose); }
+
 Json ParamsDocument(const SceneParams& params) {
   return {{"beta", params.model.beta},
           {"dynamic_mode", NameOf(kDynamicModeNames, params.model.dynamic_mode)},
           {"depth_scale", params.depth_scale}};
-}
-
-SceneParams ParamsFromDocument(const Json& j) {
-  SceneParams params;
-  params.model.beta = j.at("beta").get<double>();
-  params.model.dynamic_mode = j.at("dynamic_mode") == "subtract" ? engine::DynamicMode::kSubtractFromMovable
-                                                                 : engine::DynamicMode::kExcludeFromInput;
-  params.depth_scale = j.at("depth_scale").get<double>();
-  return params;
 }
 
 Json MergeReportDocument(const MergeReport& r) {

@@ -1,8 +1,8 @@
 #pragma once
-// Internal to the scene capability: the JSON documents a scene model's row stores (camera, pose, params, merge
-// report) and their typed forms. The service stores and loads them; the responses show them as stored, so
-// api/scene_json.cc writes them with the same functions (one definition of the format). Not part of the service's
-// interface: it includes nlohmann-json.
+// Internal to the scene capability: the JSON of a scene model's camera, pose and params as the responses show them
+// (stored as typed columns since migration 0017), and the merge report, still a JSON document of the row (issue 30:
+// next to become typed). api/scene_json.cc writes them with these functions (one definition of the format). Not
+// part of the service's interface: it includes nlohmann-json.
 #include "schema/json_io.h"
 #include "services/scene/scene_types.h"
 
@@ -11,14 +11,11 @@ namespace anchordb::services::scene_documents {
 using json::Json;
 
 Json CameraDocument(const PinholeIntrinsics& K);
-PinholeIntrinsics CameraFromDocument(const Json& j);
 
-// {"position":[x,y,z],"orientation":[qx,qy,qz,qw]}; read back exactly as written (no renormalisation).
+// {"position":[x,y,z],"orientation":[qx,qy,qz,qw]}.
 Json PoseDocument(const Pose3& pose);
-Pose3 PoseFromDocument(const Json& j);
 
 Json ParamsDocument(const SceneParams& params);
-SceneParams ParamsFromDocument(const Json& j);
 
 // Keys that a report of an older release lacks take their defaults.
 Json MergeReportDocument(const MergeReport& report);

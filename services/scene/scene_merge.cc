@@ -83,14 +83,14 @@ std::vector<engine::MergeCandidate> SceneService::SelectCandidates(const std::st
   filter.limit = engine::kMergeCandidatesExamined;
   std::vector<engine::EarlierModel> earlier;
   for (const auto& r : store_.Read([&](storage::Connection& c) { return storage::ListScenes(c, map, filter); })) {
-    earlier.push_back({r.id, r.status == "observing", r.frames, r.started_ns, Eigen::Vector3d(r.x_m, r.y_m, r.z_m)});
+    earlier.push_back({r.id, r.status == "observing", r.frames, r.started_ns, r.pose.position_m});
   }
   const auto background_of = [&](std::int64_t id) -> std::optional<engine::EarlierBackground> {
     const auto full = store_.Read([&](storage::Connection& c) { return storage::FindScene(c, map, id, true); });
     if (!full || full->background.empty()) return std::nullopt;
     engine::EarlierBackground e;
-    e.K = docs::CameraFromDocument(json::Json::parse(full->intrinsics_json));
-    e.X_MapCamera = engine::ToIsometry(StoredPose(full->pose_json));
+    e.K = full->camera;
+    e.X_MapCamera = engine::ToIsometry(full->pose);
     e.background_m = DecodeAs<float>(full->background, BlobElement::kF32, static_cast<std::size_t>(e.K.width) * e.K.height);
     return e;
   };
@@ -107,8 +107,8 @@ SceneService::PriorSnapshot SceneService::ReadPriors(const Model& m) {
       if (!full || full->background.empty()) continue;  // forgotten meanwhile
       engine::PriorModel prior;
       prior.id = candidate.id;
-      prior.K = docs::CameraFromDocument(json::Json::parse(full->intrinsics_json));
-      s.poses.push_back(StoredPose(full->pose_json));
+      prior.K = full->camera;
+      s.poses.push_back(full->pose);
       prior.X_MapCamera = engine::ToIsometry(s.poses.back());
       prior.pose_covariance_map = scene_pose::StoredOrDefault(full->pose_covariance_json, merge_);
       prior.background_m = DecodeAs<float>(full->background, BlobElement::kF32, static_cast<std::size_t>(prior.K.width) * prior.K.height);
@@ -121,7 +121,7 @@ SceneService::PriorSnapshot SceneService::ReadPriors(const Model& m) {
 FrameResult SceneService::AddMergingFrame(Model& m, const std::vector<std::uint16_t>& depth, double scale,
                                           const std::vector<std::uint8_t>& dynamic, std::int64_t stamp_ns,
                                           const std::optional<storage::JournalFrame>& journal) {
-  const Pose3 pose = StoredPose(m.record.pose_json);
+  const Pose3 pose = m.record.pose;
   const Eigen::Isometry3d X_MC = engine::ToIsometry(pose);
   engine::MergeParams params;
   params.beta = m.params.model.beta;

@@ -23,10 +23,10 @@ SceneInfo InfoFromRecord(const storage::SceneRecord& r) {
   info.id = r.id;
   info.map = r.map_id;
   info.status = StoredValue(kSceneStatusNames, r.status, "scene status");
-  info.camera = docs::CameraFromDocument(json::Json::parse(r.intrinsics_json));
-  info.X_MapCamera = docs::PoseFromDocument(json::Json::parse(r.pose_json));
+  info.camera = r.camera;
+  info.X_MapCamera = r.pose;
   info.pose_covariance_map = scene_pose::FromDocument(r.pose_covariance_json);
-  info.params = docs::ParamsFromDocument(json::Json::parse(r.params_json));
+  info.params = StoredParams(r);
   info.merge = docs::MergeReportFromDocument(json::Json::parse(r.merge_report_json));
   info.started_ns = r.started_ns;
   info.ended_ns = r.ended_ns;
@@ -82,9 +82,10 @@ ExportedLayer SceneService::Layer(const std::string& map, std::int64_t id, Scene
   const int w = model->K.width, h = model->K.height;
   const bool png = encoding == SceneLayerEncoding::kPng;
   ExportedLayer out;
-  out.headers = {{"X-Image-Width", std::to_string(w)}, {"X-Image-Height", std::to_string(h)},
-                 {"X-Scene-Frames", std::to_string(s.frames)}};
-  out.content_type = png ? "image/png" : "application/octet-stream";
+  out.image_width_px = w;
+  out.image_height_px = h;
+  out.scene_frames = s.frames;
+  out.format = png ? BytesFormat::kPng : BytesFormat::kRaw;
   switch (layer) {
     case SceneLayerKind::kMovable:
     case SceneLayerKind::kDynamic: {
@@ -94,12 +95,12 @@ ExportedLayer SceneService::Layer(const std::string& map, std::int64_t id, Scene
       break;
     }
     case SceneLayerKind::kStatic:
-      if (!png) out.headers["X-Element"] = "f32-metres";
+      if (!png) out.element = RawElement::kF32Metres;
       out.body = png ? engine::EncodeDepthPng(ToMillimetres(s.background_m), w, h) : std::string(storage::AsBytes(s.background_m));
       break;
     case SceneLayerKind::kReliability: {
       if (!png) {
-        out.headers["X-Element"] = "f32-weight";
+        out.element = RawElement::kF32Weight;
         out.body = std::string(storage::AsBytes(s.weight));
         break;
       }
@@ -170,7 +171,10 @@ ExportedLayer SceneService::KeyframeImage(const std::string& map, std::int64_t i
   const storage::KeyframeRecord k = store_.Read([&](storage::Connection& c) { return RequireKeyframe(c, map, id, true); });
   const std::size_t n = static_cast<std::size_t>(k.width) * k.height;
   const auto pixels = DecodeAs<std::uint16_t>(which == KeyframeImageKind::kDepth ? k.depth : k.background, BlobElement::kU16, n);
-  return ExportedLayer{"image/png", engine::EncodeDepthPng(pixels, k.width, k.height), {}};
+  ExportedLayer out;
+  out.format = BytesFormat::kPng;
+  out.body = engine::EncodeDepthPng(pixels, k.width, k.height);
+  return out;
 }
 
 }  // namespace anchordb::services

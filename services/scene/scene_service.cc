@@ -81,13 +81,12 @@ SceneInfo SceneService::Open(const std::string& map, const OpenSceneRequest& req
   model->state = engine::NewSceneModel(K.width, K.height);
   storage::SceneRecord& r = model->record;
   r.map_id = map;
-  r.intrinsics_json = docs::CameraDocument(K).dump();
-  r.pose_json = docs::PoseDocument(pose).dump();
+  r.camera = K;
+  r.pose = pose;
   r.pose_covariance_json = scene_pose::Document(pose_covariance);
-  r.x_m = pose.position_m.x();
-  r.y_m = pose.position_m.y();
-  r.z_m = pose.position_m.z();
-  r.params_json = docs::ParamsDocument(request.params).dump();
+  r.beta = request.params.model.beta;
+  r.dynamic_mode = NameOf(kDynamicModeNames, request.params.model.dynamic_mode);
+  r.depth_scale = request.params.depth_scale;
   MergeReport report;
   report.requested = request.merge;
   report.strategy = request.merge_strategy;
@@ -156,8 +155,8 @@ std::shared_ptr<SceneService::Model> SceneService::Load(const std::string& map, 
     return found;
   });
   if (!record) throw Error(ErrorCode::kNotFound, "scene " + std::to_string(id) + " does not exist in map '" + map + "'", "scene");
-  model->K = docs::CameraFromDocument(json::Json::parse(record->intrinsics_json));
-  model->params = docs::ParamsFromDocument(json::Json::parse(record->params_json));
+  model->K = record->camera;
+  model->params = StoredParams(*record);
   model->merge = docs::MergeReportFromDocument(json::Json::parse(record->merge_report_json));  // the stored text is kept
   model->state = engine::NewSceneModel(model->K.width, model->K.height);
   const std::size_t n = static_cast<std::size_t>(model->K.width) * model->K.height;

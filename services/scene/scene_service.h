@@ -63,14 +63,14 @@ class SceneService {
   FrameResult AddFrame(const std::string& map, std::int64_t id, const FrameInput& frame);
   SceneInfo Get(const std::string& map, std::int64_t id);
   // A layer as PNG (static: 16-bit mm; movable, dynamic: 8-bit mask; reliability: 8-bit weight, clamped at 255) or
-  // raw (static: f32 metres; reliability: f32 weight; masks: u8), with X-Image-Width/-Height and X-Scene-Frames
-  // headers. `clean` (movable only) applies the noise cleaning of 3.5.1. kInvalidArgument: clean with another layer.
+  // raw (static: f32 metres; reliability: f32 weight; masks: u8), with the image's size and the frames seen.
+  // `clean` (movable only) applies the noise cleaning of 3.5.1. kInvalidArgument: clean with another layer.
   ExportedLayer Layer(const std::string& map, std::int64_t id, SceneLayerKind layer, SceneLayerEncoding encoding,
                       bool clean);
   // The static layer (background) or the movable layer (its pixels at the depth of the latest frame: in memory, else
   // the model's newest keyframe) back-projected with the model's camera, in the map frame (merge-corrected pose, else
-  // the opening pose) or the camera's optical frame, as PCD / PLY of x, y, z [m] (scene_clouds.cc). X-Points,
-  // X-Frame, X-Scene-Frames headers. kInvalidArgument (field "layer") for another layer; kNotFound.
+  // the opening pose) or the camera's optical frame, as PCD / PLY of x, y, z [m] (scene_clouds.cc), with the
+  // point count, the frame and the frames seen. kInvalidArgument (field "layer") for another layer; kNotFound.
   ExportedLayer LayerCloud(const std::string& map, std::int64_t id, SceneLayerKind layer, bool map_frame,
                            engine::CloudFormat format);
   SceneLayerSummary LayerSummary(const std::string& map, std::int64_t id, SceneLayerKind layer, bool clean);

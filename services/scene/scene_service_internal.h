@@ -54,8 +54,14 @@ inline std::vector<std::uint16_t> ToMillimetres(const std::vector<float>& metres
   return mm;
 }
 
-// The stored camera pose the computations use (checked and renormalised like a request's).
-inline Pose3 StoredPose(const std::string& pose_json) { return json::AsPose3(json::Json::parse(pose_json), "pose"); }
+// A stored model's parameters (its dynamic mode by its one name table).
+inline SceneParams StoredParams(const storage::SceneRecord& r) {
+  SceneParams params;
+  params.model.beta = r.beta;
+  params.model.dynamic_mode = ValueOf(kDynamicModeNames, r.dynamic_mode).value_or(engine::DynamicMode::kExcludeFromInput);
+  params.depth_scale = r.depth_scale;
+  return params;
+}
 
 using services::RequireMap;
 

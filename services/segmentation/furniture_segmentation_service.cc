@@ -11,6 +11,7 @@
 #include "engine/segmentation/footprint.h"
 #include "engine/segmentation/geometric_categories.h"
 #include "schema/error.h"
+#include "services/common/cloud_bytes.h"
 #include "services/common/require.h"
 #include "services/scene/keyframe_listener.h"
 #include "storage/blob_codec.h"
@@ -454,10 +455,8 @@ ExportedLayer FurnitureSegmentationService::Cloud(const std::string& map, std::i
   if (!v.perceived) throw Error(ErrorCode::kUnprocessable, "furniture " + std::to_string(id) + " was entered by an operator and has no cloud", "furniture");
   const auto fr = store_.Read([&](storage::Connection& c) { return storage::FindFurnitureInstance(c, map, id, true); });
   const std::vector<Eigen::Vector3f> points = DecodeCloudBlob(fr ? fr->cloud : std::string());
-  ExportedLayer out;
-  out.content_type = engine::CloudContentType(format);
-  out.body = engine::EncodeCloud(points, format);
-  out.headers = {{"X-Points", std::to_string(points.size())}, {"X-Frame", "map"}};
+  ExportedLayer out = CloudBytes(points, format);
+  out.frame = CoordinateFrame::kMap;
   return out;
 }
 

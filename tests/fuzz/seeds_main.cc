@@ -50,9 +50,9 @@ int main(int argc, char** argv) {
       case D::kProbabilityLayer: lc::EncodeLayer(lc::DecodeProbabilityLayer(record), again); break;
       case D::kLabelLayer: lc::EncodeLayer(lc::DecodeLabelLayer(record), again); break;
       case D::kFusedMeta: lc::EncodeLayer(lc::DecodeFusedMeta(record), again); break;
-      case D::kOccupancyMeta: again.meta_json = lc::MetaToJson(lc::DecodeOccupancyMeta(record)).dump(); break;
-      case D::kProbabilityMeta: again.meta_json = lc::MetaToJson(lc::DecodeProbabilityMeta(record)).dump(); break;
-      case D::kLabelMeta: again.meta_json = lc::MetaToJson(lc::DecodeLabelMeta(record)).dump(); break;
+      case D::kOccupancyMeta: again.meta_json = lc::EncodeLayerMeta(lc::DecodeOccupancyMeta(record)); break;
+      case D::kProbabilityMeta: again.meta_json = lc::EncodeLayerMeta(lc::DecodeProbabilityMeta(record)); break;
+      case D::kLabelMeta: again.meta_json = lc::EncodeLayerMeta(lc::DecodeLabelMeta(record)); break;
       case D::kGeometry: {
         const json::Json geometry = json::ToJson(lc::DecodeGeometry(record));
         if (geometry == json::Json::parse(record.meta_json).at("geometry")) again.meta_json = record.meta_json;

@@ -11,14 +11,13 @@
 
 #include "engine/grounding/furniture_graph.h"
 #include "engine/grounding/grounding.h"
-#include "storage/hypotheses_codec.h"   // EncodeHypotheses, DecodeHypotheses
+#include "services/furniture/hypotheses_records.h"  // EncodeHypotheses, DecodeHypotheses (engine types)
 #include "storage/layer_codec.h"        // EncodeLayer, Decode*Meta, Decode*Layer, DecodeGeometry
-#include "storage/layer_codec_json.h"   // MetaToJson (the seed writer's round-trip check)
 #include "storage/repositories.h"       // LayerRecord
 
 namespace anchordb::fuzz {
 
-namespace hypotheses_codec = ::anchordb::storage;
+namespace hypotheses_codec = ::anchordb::services;
 namespace layer_codec = ::anchordb::storage;
 
 // Three pieces seen from the origin, two edges, with the built-in category table.

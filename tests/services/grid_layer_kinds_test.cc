@@ -112,8 +112,9 @@ TEST_F(GridLayerKindsRoundTrip, EveryKindReadsAsProbabilitiesAndExportsEveryForm
     for (LayerFormat f : {LayerFormat::kPng, LayerFormat::kPgm, LayerFormat::kYaml, LayerFormat::kRaw}) {
       const ExportedLayer e = grid_->ExportLayer("m", name, f);
       EXPECT_FALSE(e.body.empty()) << name;
-      EXPECT_EQ(e.headers.at("X-Grid-Width"), "40") << name;
-      EXPECT_EQ(e.headers.count("X-Element"), f == LayerFormat::kRaw ? 1u : 0u) << name;
+      EXPECT_EQ(e.grid_width_cells, 40) << name;
+      EXPECT_EQ(e.element != RawElement::kNone, f == LayerFormat::kRaw) << name;
+      EXPECT_EQ(e.format == BytesFormat::kRaw, f == LayerFormat::kRaw) << name;
     }
   }
   EXPECT_EQ(grid_->ExportLayer("m", "prob", LayerFormat::kRaw).body.size(), 40u * 30u * sizeof(float));

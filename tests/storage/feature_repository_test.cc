@@ -49,7 +49,6 @@ class FeatureRepositoryTest : public ::testing::TestWithParam<Engine> {
     return store_->Write([](Connection& c) {
       SceneRecord scene;
       scene.map_id = "home";
-      scene.intrinsics_json = scene.pose_json = scene.params_json = "{}";
       KeyframeRecord k;
       k.map_id = "home";
       k.scene_id = InsertScene(c, scene);

@@ -85,9 +85,7 @@ class ForgetFixture : public ::testing::TestWithParam<Engine> {
       SceneRecord r;
       r.map_id = "home";
       r.status = "observing";
-      r.intrinsics_json = R"({"width":8,"height":6,"fx":5,"fy":5,"cx":4,"cy":3})";
-      r.pose_json = R"({"position":[0,0,0],"orientation":[0,0,0,1]})";
-      r.params_json = "{}";
+      r.camera = {8, 6, 5, 5, 4, 3};
       r.started_ns = kNow - 60 * kDay;
       r.id = InsertScene(c, r);
       r.background = std::string(state_bytes, 'b');

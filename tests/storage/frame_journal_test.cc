@@ -19,7 +19,6 @@ std::int64_t AddScene(Store& store, const std::string& map) {
     if (!FindMap(c, map)) InsertMap(c, {map, map, 1});
     SceneRecord r;
     r.map_id = map;
-    r.intrinsics_json = r.pose_json = r.params_json = "{}";
     return InsertScene(c, r);
   });
 }

@@ -1,12 +1,14 @@
-// The stored form of a furniture graph's hypotheses: a round trip keeps every hypothesis; a blob of another graph's
-// shape or a corrupted one is refused.
+// The stored form of a furniture graph's hypotheses (storage/hypotheses_codec.h, reached through the service's mapping
+// of the engine's types): a round trip keeps every hypothesis; a blob of another graph's shape or a corrupted one is
+// refused, and so are records that do not fit the shape they are stored for.
+#include "services/furniture/hypotheses_records.h"
 #include "storage/hypotheses_codec.h"
 
 #include <gtest/gtest.h>
 
 #include "schema/error.h"
 
-namespace anchordb::storage {
+namespace anchordb::services {
 namespace {
 
 namespace g = engine::grounding;
@@ -60,5 +62,28 @@ TEST(HypothesesCodec, HeldStepsAndDescribedCategoriesRoundTrip) {
   }
 }
 
+TEST(HypothesesCodec, RecordsThatDoNotFitTheirShapeAreRefused) {
+  const storage::HypothesesShape shape{2, 3, 2, 4, 4, 4, 5};
+  storage::StoredHypothesisSet set;
+  storage::StoredHypothesis& h = set.ranked.emplace_back();
+  h.category.assign(6, 1.0 / 3);
+  h.orientation.assign(8, 0.25);
+  h.relation.assign(8, 0.25);
+  const storage::StoredHypothesisSet back = storage::DecodeHypotheses(shape, storage::EncodeHypotheses(shape, set));
+  ASSERT_EQ(back.ranked.size(), 1u);
+  EXPECT_EQ(back.ranked[0].category, h.category);
+  EXPECT_FALSE(back.ranked[0].scheme.has_value());
+  h.relation.pop_back();
+  try {
+    storage::EncodeHypotheses(shape, set);
+    ADD_FAILURE() << "a state of the wrong size was encoded";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+  }
+  h.relation.push_back(0.25);
+  h.lineage.push_back(0);  // a lineage without its match
+  EXPECT_THROW(storage::EncodeHypotheses(shape, set), Error);
+}
+
 }  // namespace
-}  // namespace anchordb::storage
+}  // namespace anchordb::services
