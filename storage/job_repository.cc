@@ -1,6 +1,31 @@
 #include "storage/job_repository.h"
 
+#include <string>
+#include <utility>
+
+#include "schema/error.h"
+
 namespace anchordb::storage {
+
+namespace {
+constexpr std::pair<JobStatus, const char*> kJobStatusNames[] = {
+    {JobStatus::kQueued, "queued"}, {JobStatus::kRunning, "running"}, {JobStatus::kSucceeded, "succeeded"},
+    {JobStatus::kFailed, "failed"}};
+}  // namespace
+
+const char* JobStatusName(JobStatus status) {
+  for (const auto& [value, name] : kJobStatusNames) {
+    if (value == status) return name;
+  }
+  throw Error(ErrorCode::kInternal, "unknown job status");
+}
+
+JobStatus JobStatusFromName(std::string_view name) {
+  for (const auto& [value, stored] : kJobStatusNames) {
+    if (name == stored) return value;
+  }
+  throw Error(ErrorCode::kInternal, "a stored job has the unknown status '" + std::string(name) + "'");
+}
 
 std::int64_t InsertJob(Connection& c, const std::string& kind, const std::optional<std::string>& map_id,
                        const std::string& request_json, std::int64_t now_ns) {
@@ -23,7 +48,7 @@ JobRecord ReadJob(Statement& s) {
   r.id = s.Int(0);
   r.kind = s.Text(1);
   if (!s.IsNull(2)) r.map_id = s.Text(2);
-  r.status = s.Text(3);
+  r.status = JobStatusFromName(s.Text(3));
   r.stage = s.Text(4);
   r.progress = s.Double(5);
   r.request_json = s.Text(6);
@@ -62,11 +87,11 @@ std::optional<std::int64_t> NextQueuedJob(Connection& c, std::int64_t after_id) 
   return s.Int(0);
 }
 
-void SetJobStatus(Connection& c, std::int64_t id, const std::string& status, const std::string& stage, double progress,
+void SetJobStatus(Connection& c, std::int64_t id, JobStatus status, const std::string& stage, double progress,
                   const std::string* result_json, const std::string* error, std::int64_t now_ns) {
   Statement s(c, "UPDATE jobs SET status = ?, stage = ?, progress = ?, result = coalesce(?, result), error = ?, "
                  "updated_ns = ? WHERE id = ?");
-  s.Bind(1, status).Bind(2, stage).Bind(3, progress);
+  s.Bind(1, std::string_view(JobStatusName(status))).Bind(2, stage).Bind(3, progress);
   if (result_json) s.Bind(4, *result_json);
   else s.BindNull(4);
   if (error) s.Bind(5, *error);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "storage/connection.h"
+#include "storage/job_status.h"
 
 namespace anchordb::storage {
 
@@ -14,7 +15,7 @@ struct JobRecord {
   std::int64_t id = 0;
   std::string kind;
   std::optional<std::string> map_id;
-  std::string status;
+  JobStatus status = JobStatus::kQueued;
   std::string stage;
   double progress = 0.0;
   std::string request_json;
@@ -33,7 +34,7 @@ std::vector<JobRecord> ListJobs(Connection& c, const std::optional<std::string>&
 // The oldest queued job.
 std::optional<std::int64_t> NextQueuedJob(Connection& c, std::int64_t after_id = 0);
 // result: kept as stored when null; error: replaced (null clears it).
-void SetJobStatus(Connection& c, std::int64_t id, const std::string& status, const std::string& stage, double progress,
+void SetJobStatus(Connection& c, std::int64_t id, JobStatus status, const std::string& stage, double progress,
                   const std::string* result_json, const std::string* error, std::int64_t now_ns);
 // Jobs left queued or running (by a stop or a crash) become failed with `message` and their stage; a job that had
 // recorded a result (its work was committed before the stop) also gets the note of its kind from

@@ -4,16 +4,6 @@
 
 namespace anchordb::services {
 
-const char* JobStatusId(JobStatus status) {
-  switch (status) {
-    case JobStatus::kQueued: return "queued";
-    case JobStatus::kRunning: return "running";
-    case JobStatus::kSucceeded: return "succeeded";
-    case JobStatus::kFailed: return "failed";
-  }
-  return "failed";
-}
-
 void JobRegistry::Register(JobKind kind) {
   if (kind.name.empty() || !kind.run) throw Error(ErrorCode::kInvalidArgument, "a job kind needs a name and a runner", "kind");
   const std::string name = kind.name;

@@ -15,13 +15,6 @@ namespace {
 constexpr const char* kInterrupted = "interrupted by a server stop";
 constexpr const char* kCancelled = "cancelled";
 
-JobStatus StatusOf(const std::string& id) {
-  if (id == "queued") return JobStatus::kQueued;
-  if (id == "running") return JobStatus::kRunning;
-  if (id == "succeeded") return JobStatus::kSucceeded;
-  return JobStatus::kFailed;
-}
-
 Error NoJob(std::int64_t id) { return Error(ErrorCode::kNotFound, "job " + std::to_string(id) + " does not exist", "job"); }
 
 }  // namespace
@@ -98,7 +91,7 @@ void JobService::Register(JobKind kind) {
 
 void JobService::SetStatus(storage::Connection& c, std::int64_t id, JobStatus status, const std::string& stage,
                            double progress, const std::string* result_json, const std::string* error) const {
-  storage::SetJobStatus(c, id, JobStatusId(status), stage, progress, result_json, error, clock_.NowNs());
+  storage::SetJobStatus(c, id, status, stage, progress, result_json, error, clock_.NowNs());
 }
 
 JobTicket JobService::Submit(const std::string& kind, const std::optional<std::string>& map, const std::string& request_json) {
@@ -169,7 +162,7 @@ std::vector<JobView> JobService::List(const std::optional<std::string>& map, std
 }
 
 JobView JobService::ViewOf(const storage::JobRecord& r) const {
-  JobView v{r.id, r.kind, r.map_id, StatusOf(r.status), r.stage, r.progress, r.request_json, r.result_json,
+  JobView v{r.id, r.kind, r.map_id, r.status, r.stage, r.progress, r.request_json, r.result_json,
             r.error, r.created_ns, r.updated_ns};
   if (const auto f = unrecorded_failures_.find(r.id); f != unrecorded_failures_.end() && v.status != JobStatus::kSucceeded) {
     v.status = JobStatus::kFailed;
@@ -188,7 +181,7 @@ bool JobService::Cancel(std::int64_t id) {
   const JobStatus was = store_.Write([&](storage::Connection& c) {
     const auto r = storage::FindJob(c, id);
     if (!r) throw NoJob(id);
-    const JobStatus status = StatusOf(r->status);
+    const JobStatus status = r->status;
     if (status == JobStatus::kQueued) SetStatus(c, id, JobStatus::kFailed, r->stage, r->progress, nullptr, &cancelled);
     return status;
   });
@@ -256,7 +249,7 @@ void JobService::RunJob(std::int64_t id) {
     const auto job = store_.Write([&](storage::Connection& c) -> std::optional<storage::JobRecord> {
       auto r = storage::FindJob(c, id);
       if (!r) throw Error(ErrorCode::kNotFound, "job vanished");
-      if (r->status != "queued") return std::nullopt;  // cancelled after the worker picked it
+      if (r->status != JobStatus::kQueued) return std::nullopt;  // cancelled after the worker picked it
       std::lock_guard<std::mutex> lock(mutex_);
       kind = registry_.Find(r->kind);
       live_id_ = id;
@@ -316,7 +309,7 @@ void JobService::RecordFailures() {
     try {
       store_.Write([&](storage::Connection& c) {
         const auto r = storage::FindJob(c, id);
-        if (r && (r->status == "queued" || r->status == "running")) {
+        if (r && (r->status == JobStatus::kQueued || r->status == JobStatus::kRunning)) {
           SetStatus(c, id, JobStatus::kFailed, r->stage, 1.0, nullptr, &message);
         }
       });

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "storage/forget_policy.h"
+#include "storage/job_status.h"
 
 namespace anchordb::services {
 
@@ -13,9 +14,10 @@ namespace anchordb::services {
 using ForgetPolicy = storage::ForgetPolicy;
 using ForgetRequest = storage::ForgetRequest;
 
-enum class JobStatus { kQueued, kRunning, kSucceeded, kFailed };
-// "queued", "running", "succeeded", "failed" (as stored and served).
-const char* JobStatusId(JobStatus status);
+// A job's status and its one table of names (storage/job_status.h): "queued", "running", "succeeded", "failed", as
+// stored and served.
+using JobStatus = storage::JobStatus;
+inline const char* JobStatusId(JobStatus status) { return storage::JobStatusName(status); }
 
 // An online copy of the whole database into the server's backup_dir (storage/backup.h).
 struct BackupRequest {
