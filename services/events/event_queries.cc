@@ -10,6 +10,7 @@
 #include "engine/events/where.h"
 #include "schema/error.h"
 #include "schema/json_io.h"
+#include "services/common/stored_pose.h"
 #include "services/events/event_details.h"
 #include "services/events/event_records_internal.h"
 #include "services/events/event_service.h"
@@ -245,7 +246,7 @@ WhereAnswer EventService::Where(const std::string& map, const WhereRequest& requ
     }
     if (best.last_scene_id) {
       if (const auto scene = storage::FindScene(c, map, *best.last_scene_id, false)) {
-        const Pose3& pose = scene->pose;
+        const Pose3 pose = StoredPose(*scene);
         const Eigen::Vector3d axis = pose.orientation * Eigen::Vector3d::UnitZ();  // the optical axis in the map
         viewer.position_m = pose.position_m.head<2>();
         viewer.heading_rad = std::atan2(axis.y(), axis.x());

@@ -11,6 +11,7 @@
 #include "engine/scene/projection.h"
 #include "schema/error.h"
 #include "schema/json_io.h"
+#include "services/common/stored_pose.h"
 #include "services/events/event_analysis_internal.h"
 #include "services/events/event_records_internal.h"
 #include "storage/scene_repository.h"
@@ -195,9 +196,9 @@ ReanalyseResult EventService::Reanalyse(const std::string& map, std::int64_t key
   });
   // The keyframe's raw depth against the newer background rendered into its camera.
   const PinholeIntrinsics& K = m.own.camera;
-  const Eigen::Isometry3d X_MC = engine::ToIsometry(m.own.pose);
+  const Eigen::Isometry3d X_MC = engine::ToIsometry(StoredPose(m.own));
   const auto rendered = engine::RenderDepthMm(
-      engine::BackProject(DecodeF32(m.newer.background), m.newer.camera, engine::ToIsometry(m.newer.pose)), K, X_MC);
+      engine::BackProject(DecodeF32(m.newer.background), m.newer.camera, engine::ToIsometry(StoredPose(m.newer))), K, X_MC);
   const std::vector<std::uint16_t> depth_mm = DecodeDepthMm(m.keyframe.depth);
   engine::ChangeParams p = settings_.change;
   p.beta = m.own.beta;

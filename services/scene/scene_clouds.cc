@@ -2,6 +2,7 @@
 // the latest frame that labelled them, back-projected with the model's camera.
 #include "engine/cloud/cloud_io.h"
 #include "services/common/cloud_bytes.h"
+#include "services/common/stored_pose.h"
 #include "engine/scene/projection.h"
 #include "services/scene/scene_service.h"
 #include "services/scene/scene_service_internal.h"
@@ -20,7 +21,7 @@ ExportedLayer SceneService::LayerCloud(const std::string& map, std::int64_t id, 
   const engine::SceneModelState& s = model->state;
   const auto& corrected = model->merge.X_MapCamera_corrected;
   const Eigen::Isometry3d X_MapCamera =
-      engine::ToIsometry(corrected ? *corrected : model->record.pose);
+      engine::ToIsometry(corrected ? *corrected : StoredPose(model->record));
   const Eigen::Isometry3d X = map_frame ? X_MapCamera : Eigen::Isometry3d::Identity();
   std::vector<Eigen::Vector3f> points;
   if (layer == SceneLayerKind::kStatic) {

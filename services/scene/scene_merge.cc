@@ -4,6 +4,7 @@
 // result is committed by a short write that first checks that the earlier models are still as read.
 #include "engine/scene/merge.h"
 #include "engine/scene/projection.h"
+#include "services/common/stored_pose.h"
 #include "services/scene/scene_pose_covariance.h"
 #include "services/scene/scene_service.h"
 #include "services/scene/scene_service_internal.h"
@@ -90,7 +91,7 @@ std::vector<engine::MergeCandidate> SceneService::SelectCandidates(const std::st
     if (!full || full->background.empty()) return std::nullopt;
     engine::EarlierBackground e;
     e.K = full->camera;
-    e.X_MapCamera = engine::ToIsometry(full->pose);
+    e.X_MapCamera = engine::ToIsometry(StoredPose(*full));
     e.background_m = DecodeAs<float>(full->background, BlobElement::kF32, static_cast<std::size_t>(e.K.width) * e.K.height);
     return e;
   };
@@ -108,7 +109,7 @@ SceneService::PriorSnapshot SceneService::ReadPriors(const Model& m) {
       engine::PriorModel prior;
       prior.id = candidate.id;
       prior.K = full->camera;
-      s.poses.push_back(full->pose);
+      s.poses.push_back(StoredPose(*full));
       prior.X_MapCamera = engine::ToIsometry(s.poses.back());
       prior.pose_covariance_map = scene_pose::StoredOrDefault(full->pose_covariance_json, merge_);
       prior.background_m = DecodeAs<float>(full->background, BlobElement::kF32, static_cast<std::size_t>(prior.K.width) * prior.K.height);
@@ -121,7 +122,7 @@ SceneService::PriorSnapshot SceneService::ReadPriors(const Model& m) {
 FrameResult SceneService::AddMergingFrame(Model& m, const std::vector<std::uint16_t>& depth, double scale,
                                           const std::vector<std::uint8_t>& dynamic, std::int64_t stamp_ns,
                                           const std::optional<storage::JournalFrame>& journal) {
-  const Pose3 pose = m.record.pose;
+  const Pose3 pose = StoredPose(m.record);
   const Eigen::Isometry3d X_MC = engine::ToIsometry(pose);
   engine::MergeParams params;
   params.beta = m.params.model.beta;

@@ -9,9 +9,12 @@ has (GET /v1/openapi.json) and writes every entity those routes can make: maps, 
 probability layer with observations, a fused and a label layer, agents, API tokens (`token create`); scene models
 with synthetic depth frames (a floor, a wall and a box that appears and later goes), manual keyframes, closed,
 merged/superseded and still observing models; furniture graphs with descriptions and a reset; instances, events,
-labels, pins, relevance, re-analysis and a forgetting job (dry run). Then it reads everything back through the API
-and writes OUT minus ".sqlite" plus ".json": the manifest that tests/integration/test_old_databases.py compares the
-current server's answers with. The server is stopped with SIGTERM, so the file is checkpointed (no -wal is left).
+labels, pins, relevance, re-analysis and a forgetting job (dry run); and, from schema 0007 on, what the later
+schemas added (old_database_later.py: audit log, analysis queue, pose covariance, OctoMap, anchored features, a
+codebook and classifiers, a shape model, furniture instances, an instance classification). Then it reads everything
+back through the API and writes OUT minus ".sqlite" plus ".json": the manifest that
+tests/integration/test_old_databases.py compares the current server's answers with. The server is stopped with
+SIGTERM, so the file is checkpointed (no -wal is left).
 
 Standard library only; no randomness and no clock (time stamps are fixed), so a rerun with the same binary writes
 the same memory (row time stamps the server takes from its own clock differ).
@@ -34,6 +37,7 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path[:0] = [os.path.join(ROOT, "clients", "python"), os.path.join(ROOT, "tests", "integration")]
 
 import harness  # noqa: E402  (tests/integration: starts a server binary, synthetic maps, PNG helpers)
+import old_database_later  # noqa: E402  (the parts of schemas 0007-0016, beside this file)
 
 T0_NS = 1795400000000000000  # 2026-11-22T... : every stamp the script sends is T0_NS + an offset
 FRAME_NS = 33000000
@@ -144,11 +148,12 @@ def read_entry(client, entry):
 
 # ---------------------------------------------------------------- the memory
 
-class Writer:
+class Writer(old_database_later.LaterParts):
     def __init__(self, server):
         self.c = server.client
         self.server = server
-        paths = self.c.openapi()["paths"]
+        self.openapi = self.c.openapi()
+        paths = self.openapi["paths"]
         self.routes = {(m.upper(), p) for p, ops in paths.items() for m in ops}
         self.entries = []      # what is read back: manifest["reads"]
         self.expect = {}       # a semantic summary for targeted checks
@@ -450,6 +455,7 @@ def main():
         parts = ["grid"] + [part for part, route in (("scenes", "/v1/maps/{map}/scenes"),
                                                      ("furniture", "/v1/maps/{map}/furniture-graphs"),
                                                      ("events", "/v1/maps/{map}/instances")) if w.has("POST", route)]
+        parts += w.later_parts()
         for part in parts:
             getattr(w, "write_" + part)()
         # Read back from the file as the old server finds it after a restart (a graceful stop persists the
