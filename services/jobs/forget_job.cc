@@ -1,7 +1,5 @@
-// The "forget" job kind, its stored request (a JSON document of the jobs table) and JobService::SubmitForget.
+// The "forget" job kind and JobService::SubmitForget (its stored request: services/jobs/job_documents.h).
 #include "services/jobs/forget_job.h"
-
-#include <nlohmann/json.hpp>
 
 #include "schema/error.h"
 #include "services/jobs/job_documents.h"
@@ -9,8 +7,6 @@
 
 namespace anchordb::services {
 namespace {
-
-using Json = nlohmann::json;
 
 constexpr double kMaxAgeS = 100.0 * 365.25 * 86400.0;  // keeps now - age representable in int64 nanoseconds
 
@@ -20,37 +16,8 @@ void CheckAge(const std::optional<double>& age_s, const std::string& field) {
   if (*age_s > kMaxAgeS) throw Error(ErrorCode::kUnprocessable, field + " must be at most 100 years in seconds", field);
 }
 
-std::string EncodeForgetRequest(const storage::ForgetRequest& r) {
-  Json stored = {{"policy", Json::parse(ForgetPolicyDocument(r.policy))}, {"dry_run", r.dry_run}};
-  if (r.now_ns) stored["now"] = *r.now_ns;
-  return stored.dump();
-}
-
-std::optional<double> AgeOf(const Json& policy, const char* key) {
-  const Json& v = policy.at(key);
-  return v.is_null() ? std::nullopt : std::optional<double>(v.get<double>());
-}
-
-storage::ForgetRequest DecodeForgetRequest(const std::string& text) {
-  try {
-    const Json j = Json::parse(text);
-    storage::ForgetRequest r;
-    const Json& p = j.at("policy");
-    r.policy.drop_superseded = p.at("superseded_models").get<bool>();
-    r.policy.keyframe_max_age_s = AgeOf(p, "keyframe_max_age_s");
-    r.policy.keep_relevance_at_least = p.at("keep_relevance_at_least").get<double>();
-    r.policy.event_max_age_s = AgeOf(p, "event_max_age_s");
-    r.policy.vacuum = p.at("vacuum").get<bool>();
-    r.dry_run = j.at("dry_run").get<bool>();
-    if (j.contains("now")) r.now_ns = j.at("now").get<std::int64_t>();
-    return r;
-  } catch (const Json::exception& e) {
-    throw Error(ErrorCode::kInvalidArgument, std::string("not a forgetting request: ") + e.what(), "request");
-  }
-}
-
 std::optional<std::string> RunForget(JobContext& job, const std::string& db_path, const JobSettings& settings) {
-  const storage::ForgetRequest request = DecodeForgetRequest(job.request());
+  const storage::ForgetRequest request = ForgetRequestFromDocument(job.request());
   storage::ConnectionOptions options;
   options.busy_timeout_ms = settings.busy_timeout_ms;
   options.synchronous = settings.synchronous;
@@ -91,14 +58,14 @@ JobKind ForgetJobKind(const std::string& db_path, const JobSettings& settings) {
   kind.name = "forget";
   kind.first_stage = "forgetting";
   kind.needs_map = true;
-  kind.check = [](const JobSubmission& s) { CheckForgetRequest(DecodeForgetRequest(s.request), s.now_ns); };
+  kind.check = [](const JobSubmission& s) { CheckForgetRequest(ForgetRequestFromDocument(s.request), s.now_ns); };
   kind.run = [db_path, settings](JobContext& job) { return RunForget(job, db_path, settings); };
   kind.note_when_failed_after_result = " (after the deletions were committed: see result)";
   return kind;
 }
 
 JobTicket JobService::SubmitForget(const std::string& map, const storage::ForgetRequest& request) {
-  return Submit("forget", map, EncodeForgetRequest(request));
+  return Submit("forget", map, ForgetRequestDocument(request));
 }
 
 }  // namespace anchordb::services

@@ -1,7 +1,9 @@
-// Forgetting and backup reports (and a forgetting policy) as the JSON documents stored with their jobs.
+// A forget job's request, and the forgetting and backup reports, as the JSON documents stored with their jobs.
 #include "services/jobs/job_documents.h"
 
 #include <nlohmann/json.hpp>
+
+#include "schema/error.h"
 
 namespace anchordb::services {
 namespace {
@@ -68,9 +70,36 @@ Json ReportJson(const storage::ForgetReport& r) {
   return j;
 }
 
+std::optional<double> AgeOf(const Json& policy, const char* key) {
+  const Json& v = policy.at(key);
+  return v.is_null() ? std::nullopt : std::optional<double>(v.get<double>());
+}
+
 }  // namespace
 
-std::string ForgetPolicyDocument(const storage::ForgetPolicy& policy) { return PolicyJson(policy).dump(); }
+std::string ForgetRequestDocument(const storage::ForgetRequest& r) {
+  Json stored = {{"policy", PolicyJson(r.policy)}, {"dry_run", r.dry_run}};
+  if (r.now_ns) stored["now"] = *r.now_ns;
+  return stored.dump();
+}
+
+storage::ForgetRequest ForgetRequestFromDocument(const std::string& text) {
+  try {
+    const Json j = Json::parse(text);
+    storage::ForgetRequest r;
+    const Json& p = j.at("policy");
+    r.policy.drop_superseded = p.at("superseded_models").get<bool>();
+    r.policy.keyframe_max_age_s = AgeOf(p, "keyframe_max_age_s");
+    r.policy.keep_relevance_at_least = p.at("keep_relevance_at_least").get<double>();
+    r.policy.event_max_age_s = AgeOf(p, "event_max_age_s");
+    r.policy.vacuum = p.at("vacuum").get<bool>();
+    r.dry_run = j.at("dry_run").get<bool>();
+    if (j.contains("now")) r.now_ns = j.at("now").get<std::int64_t>();
+    return r;
+  } catch (const Json::exception& e) {
+    throw Error(ErrorCode::kInvalidArgument, std::string("not a forgetting request: ") + e.what(), "request");
+  }
+}
 
 std::string ForgetReportDocument(const storage::ForgetReport& report) { return ReportJson(report).dump(); }
 

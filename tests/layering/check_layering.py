@@ -29,7 +29,6 @@ JSON_DEBT = {
     "services/furniture/furniture_graph_json.cc",
     "services/furniture/furniture_service.cc",
     "services/jobs/backup_job.cc",
-    "services/jobs/forget_job.cc",
     "services/jobs/job_documents.cc",
     "services/octomap/octomap_projection.cc",
     "services/scene/keyframe_notice.cc",
