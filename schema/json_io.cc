@@ -4,6 +4,7 @@
 #include <ctime>
 
 #include "schema/error.h"
+#include "schema/unit_quaternion.h"
 
 namespace anchordb::json {
 namespace {
@@ -105,13 +106,13 @@ Pose3 AsPose3(const Json& v, const std::string& field) {
   for (int i = 0; i < 3; ++i) pose.position_m[i] = AsFiniteNumber(p[i], field + ".position[" + std::to_string(i) + "]");
   double c[4];
   for (int i = 0; i < 4; ++i) c[i] = AsFiniteNumber(q[i], field + ".orientation[" + std::to_string(i) + "]");
-  const double norm = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2] + c[3] * c[3]);
+  const double norm = QuaternionNorm(c[0], c[1], c[2], c[3]);
   if (std::abs(norm - 1.0) > 1e-3) {
     throw Error(ErrorCode::kUnprocessable,
                 field + ".orientation: quaternion norm " + std::to_string(norm) + " is not within 1e-3 of 1",
                 field + ".orientation");
   }
-  pose.orientation = Eigen::Quaterniond(c[3] / norm, c[0] / norm, c[1] / norm, c[2] / norm);
+  pose.orientation = UnitQuaternion(c[0], c[1], c[2], c[3]);
   return pose;
 }
 
