@@ -9,12 +9,14 @@
 
 namespace anchordb::services {
 
-inline Pose3 StoredPose(const storage::SceneRecord& scene) {
-  const Eigen::Quaterniond& q = scene.pose.orientation;
+inline Pose3 UnitPose(const Pose3& stored) {
+  const Eigen::Quaterniond& q = stored.orientation;
   Pose3 pose;
-  pose.position_m = scene.pose.position_m;
+  pose.position_m = stored.position_m;
   pose.orientation = UnitQuaternion(q.x(), q.y(), q.z(), q.w());
   return pose;
 }
+
+inline Pose3 StoredPose(const storage::SceneRecord& scene) { return UnitPose(scene.pose); }
 
 }  // namespace anchordb::services

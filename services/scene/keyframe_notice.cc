@@ -28,7 +28,7 @@ std::optional<KeyframeNotice> LoadKeyframeNotice(storage::Connection& c, const s
   n.beta = scene->beta;
   const MergeReport merge = docs::MergeReportFromDocument(json::Json::parse(scene->merge_report_json));
   const auto& corrected = merge.X_MapCamera_corrected;
-  n.X_MapCamera = engine::ToIsometry(corrected ? json::AsPose3(docs::PoseDocument(*corrected), "pose") : StoredPose(*scene));
+  n.X_MapCamera = engine::ToIsometry(corrected ? UnitPose(*corrected) : StoredPose(*scene));
   for (const MergedModel& used : merge.models_used) n.merged_scenes.push_back(used.scene_id);
   const std::size_t count = static_cast<std::size_t>(n.K.width) * n.K.height;
   n.depth_mm = DecodeAs<std::uint16_t>(k->depth, BlobElement::kU16, count);
