@@ -1,6 +1,6 @@
 #pragma once
 // Error kinds shared by every module. api/ maps each kind to one HTTP status in one table
-// (api/errors.cc); everything below api/ only throws or returns these kinds.
+// (HttpStatusFor in api/http_api.cc); everything below api/ only throws or returns these kinds.
 #include <stdexcept>
 #include <string>
 

@@ -44,6 +44,11 @@ std::string TopLabel(const LabelWeights& weights) {
   return top;
 }
 
+std::string FurnitureName(const LabelWeights& names) {
+  const std::string top = TopLabel(names);
+  return top.empty() ? "furniture" : top;
+}
+
 LabelWeights AddLabel(LabelWeights weights, const std::string& label, bool from_operator) {
   if (from_operator) return {{label, 1.0}};
   weights[label] += 1.0;

@@ -22,6 +22,9 @@ LabelWeights LabelDistribution(const LabelWeights& weights);
 double LabelProbability(const LabelWeights& weights, const std::string& label);
 // The label of greatest weight (the first in alphabetical order among equals); empty when there is none.
 std::string TopLabel(const LabelWeights& weights);
+// The name a furniture piece goes by in a where-is placement: its most probable label (TopLabel; a perceived piece
+// carries its whole p(f), an operator's piece one label), "furniture" when it has none.
+std::string FurnitureName(const LabelWeights& names);
 // A label from dialog adds one to its weight; an operator's label replaces all others (weight 1).
 LabelWeights AddLabel(LabelWeights weights, const std::string& label, bool from_operator);
 

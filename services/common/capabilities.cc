@@ -1,6 +1,7 @@
 #include "services/capabilities.h"
 
 #include "engine/grounding/knowledge.h"
+#include "engine/octomap/leaf_centres.h"
 #include "schema/error.h"
 
 #include <algorithm>
@@ -23,8 +24,8 @@ std::vector<std::string> CategoryIds(const std::string& knowledge_json) {
   for (const auto& c : knowledge.categories.all()) ids.push_back(c.id);
   return ids;
 }
-// The map's OctoMap as points at its resolution: a pruned voxel (a block of equal leaves) gives the centres of
-// the leaves it stands for. Up to FurnitureSegmentationService::kMaxCloudPoints (more: kPayloadTooLarge).
+// The map's OctoMap as points at its resolution (engine/octomap/leaf_centres.h). Up to
+// FurnitureSegmentationService::kMaxCloudPoints (more: kPayloadTooLarge).
 std::optional<OccupiedCloud> OccupiedCloudOf(OctomapService& octomap, const std::string& map) {
   octomap.Follow(map);  // keyframes stored since the tree's last update (with octomap_from_keyframes)
   if (!octomap.HasTree(map)) return std::nullopt;
@@ -33,20 +34,7 @@ std::optional<OccupiedCloud> OccupiedCloudOf(OctomapService& octomap, const std:
   const engine::Box3 everywhere{Eigen::Vector3d::Constant(-1e9), Eigen::Vector3d::Constant(1e9)};
   const VoxelsResult voxels = octomap.OccupiedVoxels(map, everywhere, std::nullopt);
   out.truncated = voxels.truncated;
-  const double res = out.resolution_m;
-  for (const engine::Voxel& v : voxels.voxels) {
-    const int n = std::max(1, static_cast<int>(std::lround(v.size_m / res)));
-    if (out.points_m.size() + static_cast<std::size_t>(n) * n * n > FurnitureSegmentationService::kMaxCloudPoints) {
-      throw Error(ErrorCode::kPayloadTooLarge, "the OctoMap holds more occupied space than " +
-                  std::to_string(FurnitureSegmentationService::kMaxCloudPoints) + " voxels", "octomap");
-    }
-    const Eigen::Vector3d corner = v.center_M - Eigen::Vector3d::Constant(0.5 * v.size_m);
-    for (int i = 0; i < n; ++i) {
-      for (int j = 0; j < n; ++j) {
-        for (int k = 0; k < n; ++k) out.points_m.push_back((corner + res * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5)).cast<float>());
-      }
-    }
-  }
+  out.points_m = engine::LeafCentres(voxels.voxels, out.resolution_m, FurnitureSegmentationService::kMaxCloudPoints);
   return out;
 }
 

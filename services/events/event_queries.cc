@@ -259,10 +259,7 @@ WhereAnswer EventService::Where(const std::string& map, const WhereRequest& requ
     furniture.kind = "furniture";
     furniture.limit = 10000;
     for (const auto& r : storage::ListInstances(c, map, furniture, false)) {
-      const engine::LabelWeights names = DecodeLabels(r.labels_json);
-      // The most probable name (a perceived piece carries its whole p(f); an operator's piece one label).
-      const auto name = std::max_element(names.begin(), names.end(), [](const auto& x, const auto& y) { return x.second < y.second; });
-      pieces.push_back({std::to_string(r.id), name == names.end() ? "furniture" : name->first, {r.position[0], r.position[1]},
+      pieces.push_back({std::to_string(r.id), engine::FurnitureName(DecodeLabels(r.labels_json)), {r.position[0], r.position[1]},
                         {r.extent[0], r.extent[1]}, r.yaw_rad});
     }
     a.label = label;

@@ -10,6 +10,7 @@
 #include "engine/scene/projection.h"
 #include "engine/segmentation/footprint.h"
 #include "engine/segmentation/geometric_categories.h"
+#include "engine/segmentation/segment_decisions.h"
 #include "schema/error.h"
 #include "services/common/cloud_bytes.h"
 #include "services/common/require.h"
@@ -25,12 +26,7 @@ using Json = nlohmann::json;  // at namespace scope, as in segmentation_request.
 namespace {
 namespace seg = engine::segmentation;
 
-struct Camera {
-  std::int64_t keyframe = 0;
-  PinholeIntrinsics K;
-  Eigen::Isometry3d X_MapCamera = Eigen::Isometry3d::Identity();
-  std::vector<std::uint16_t> depth_mm;
-};
+using Camera = seg::KeyframeView;
 
 std::string EncodeCloudBlob(const std::vector<Eigen::Vector3f>& points) {
   std::vector<float> flat;
@@ -97,48 +93,13 @@ FurnitureInstanceView ViewOf(const storage::InstanceRecord& r, const std::option
   return v;
 }
 
-// The keyframes whose camera saw the segment: its centroid projects into the image within range and is not hidden
-// behind a nearer surface of that keyframe's depth.
-std::vector<std::int64_t> EvidenceOf(const seg::FurnitureSegment& s, const std::vector<Camera>& cameras, double max_range_m) {
-  std::vector<std::int64_t> out;
-  for (const Camera& cam : cameras) {
-    int seen = 0, tried = 0;
-    const std::size_t step = std::max<std::size_t>(1, s.points_m.size() / 50);
-    for (std::size_t i = 0; i < s.points_m.size(); i += step) {
-      ++tried;
-      const Eigen::Vector3d p_C = cam.X_MapCamera.inverse() * s.points_m[i].cast<double>();
-      if (p_C.z() <= 0.1 || p_C.z() > max_range_m) continue;
-      const double u = cam.K.fx * p_C.x() / p_C.z() + cam.K.cx, v = cam.K.fy * p_C.y() / p_C.z() + cam.K.cy;
-      if (u < 0 || v < 0 || u >= cam.K.width || v >= cam.K.height) continue;
-      const std::uint16_t d = cam.depth_mm[static_cast<std::size_t>(v) * static_cast<std::size_t>(cam.K.width) + static_cast<std::size_t>(u)];
-      if (d > 0 && std::abs(d / 1000.0 - p_C.z()) < 0.1) ++seen;
-    }
-    if (tried > 0 && seen * 5 >= tried) out.push_back(cam.keyframe);
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
-// p(f) over the knowledge's categories: the shape prior, times the shape model's verification when there is one.
+// p(f) over the knowledge's categories: the shape prior, times the shape model's verification when there is one
+// (engine/segmentation/segment_decisions.h).
 std::vector<double> Classify(const seg::FurnitureSegment& s, std::optional<double> floor_z_m, const std::vector<std::string>& ids,
                              const engine::ShapeModel* model) {
   std::vector<double> p = seg::GeometricCategories(seg::MeasureSegment(s, floor_z_m), ids);
   if (!model) return p;
-  const auto scores = VerifySegment(*model, s.points_m);
-  double total = 0.0;
-  for (const auto& score : scores) total += score.second;
-  if (!(total > 0.0)) return p;  // no ray voted: the prior alone
-  const double floor = 0.05;  // a category the model does not know keeps a share of its prior
-  double sum = 0.0;
-  for (std::size_t i = 0; i < ids.size(); ++i) {
-    double q = floor;
-    for (const auto& score : scores) {
-      if (score.first == ids[i]) q = floor + score.second;
-    }
-    sum += p[i] *= q;
-  }
-  for (double& x : p) x /= sum;
-  return p;
+  return seg::PriorTimesVerification(std::move(p), ids, VerifySegment(*model, s.points_m));
 }
 
 }  // namespace
@@ -324,7 +285,7 @@ SegmentationOutcome RunSegmentation(const FurnitureSegmentationService::Core& co
   };
   std::vector<Classified> classified;
   for (const seg::FurnitureSegment& s : result.segments) {
-    classified.push_back({Classify(s, result.floor_z_m, category_ids_, model.get()), EvidenceOf(s, cameras, r.max_range_m)});
+    classified.push_back({Classify(s, result.floor_z_m, category_ids_, model.get()), seg::SegmentEvidence(s.points_m, cameras, r.max_range_m)});
   }
   const std::string classifier = model ? "shape_model:" + *model_name : "geometry";
 
@@ -363,12 +324,8 @@ SegmentationOutcome RunSegmentation(const FurnitureSegmentationService::Core& co
         fr = *storage::FindFurnitureInstance(c, map, inst.id, false);
         const Json e = Json::parse(fr.evidence_json, nullptr, false);
         if (e.is_array()) for (const auto& id : e) evidence.insert(id.get<std::int64_t>());
-        const std::map<std::string, double> old = Labels(inst.labels_json);
-        const double n = static_cast<double>(fr.observations);
-        for (std::size_t i = 0; i < category_ids_.size(); ++i) {
-          const auto it = old.find(category_ids_[i]);
-          labels[category_ids_[i]] = ((it == old.end() ? 0.0 : it->second) * n + classified[k].p[i]) / (n + 1.0);
-        }
+        labels = seg::AverageCategoryShares(Labels(inst.labels_json), static_cast<double>(fr.observations), category_ids_,
+                                            classified[k].p);
         fr.observations += 1;
       } else {
         inst.map_id = map;

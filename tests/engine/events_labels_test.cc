@@ -42,3 +42,16 @@ TEST(EventsLabelsTest, DialogAddsEvidenceAnOperatorReplacesIt) {
 
 }  // namespace
 }  // namespace anchordb::engine
+
+namespace anchordb::engine {
+namespace {
+
+TEST(EventsLabelsTest, FurnitureGoesByItsMostProbableNameFirstAlphabeticallyAmongEquals) {
+  EXPECT_EQ(FurnitureName({}), "furniture");
+  EXPECT_EQ(FurnitureName({{"table", 0.3}, {"chair", 0.7}}), "chair");
+  EXPECT_EQ(FurnitureName({{"shelf", 0.5}, {"desk", 0.5}}), "desk");
+  EXPECT_EQ(FurnitureName({{"sofa", 0.0}}), "sofa") << "a piece named with no weight still has that name";
+}
+
+}  // namespace
+}  // namespace anchordb::engine

@@ -57,6 +57,39 @@ FORBIDDEN = {
     "api": ("storage/", "server/"),
     "schema": ("engine/", "storage/", "services/", "api/", "server/") + HTTP,
 }
+# Decision rules moved from services/ to engine/ (issue 35), by name: the engine header declares the rule, the service
+# file calls it, and the service file no longer holds the rule's own code (a pattern of its old body).
+MOVED_RULES = (
+    # (engine header, rule, service file that uses it, pattern of the old code in services/)
+    ("engine/segmentation/segment_decisions.h", "SegmentEvidence",
+     "services/segmentation/furniture_segmentation_service.cc", r"seen\s*\*\s*5|EvidenceOf\("),
+    ("engine/segmentation/segment_decisions.h", "PriorTimesVerification",
+     "services/segmentation/furniture_segmentation_service.cc", r"const double floor = 0\.05"),
+    ("engine/segmentation/segment_decisions.h", "AverageCategoryShares",
+     "services/segmentation/furniture_segmentation_service.cc", r"\*\s*n\s*\+.*\)\s*/\s*\(n\s*\+\s*1"),
+    ("engine/events/labels.h", "FurnitureName", "services/events/event_queries.cc", r"\"furniture\"\s*:"),
+    ("engine/octomap/leaf_centres.h", "LeafCentres", "services/common/capabilities.cc", r"size_m\s*/\s*res"),
+)
+
+
+def moved_rule_problems(root):
+    problems = []
+    service_code = {}
+    for rel in sources(root, "services"):
+        with open(os.path.join(root, rel), encoding="utf-8") as f:
+            service_code[rel] = "\n".join(line.split("//", 1)[0] for line in f)
+    for header, rule, user, old in MOVED_RULES:
+        with open(os.path.join(root, header), encoding="utf-8") as f:
+            if not re.search(r"\b%s\(" % rule, f.read()):
+                problems.append(f"{header} does not declare the rule {rule}")
+        if not re.search(r"\b%s\(" % rule, service_code.get(user, "")):
+            problems.append(f"{user} does not use the engine rule {rule} ({header})")
+        for rel, code in service_code.items():
+            if re.search(old, code):
+                problems.append(f"{rel} holds the code of the rule {rule} again (it lives in {header})")
+    return problems
+
+
 # Library targets that must not have cpp-httplib in their link closure: everything but the HTTP edge.
 NO_HTTP_TARGETS = ("anchordb_schema", "anchordb_engine", "anchordb_storage", "anchordb_services", "anchordb_server_lib")
 
@@ -119,6 +152,7 @@ def main():
             for via, inc in transitive_includes(root, rel, set()):
                 if inc.startswith(HTTP + JSON):
                     problems.append(f"service header {rel} reaches {inc} (through {via})")
+    problems += moved_rule_problems(root)
     with open(links_file, encoding="utf-8") as f:
         links = dict(line.rstrip("\n").split(": ", 1) for line in f if ": " in line)
     for target in NO_HTTP_TARGETS:
