@@ -89,6 +89,14 @@ std::vector<double> BagOfWords(const std::vector<int>& codewords, int words) {
   return h;
 }
 
+TypedBag BagOfWordsOfType(const std::vector<ExtractedFeature>& features, const std::string& type, const Codebook& book) {
+  std::vector<int> words;
+  for (const ExtractedFeature& f : features) {
+    if (f.type == type && static_cast<int>(f.descriptor.size()) == book.dims) words.push_back(NearestWord(book, f.descriptor));
+  }
+  return {static_cast<int>(words.size()), BagOfWords(words, book.words)};
+}
+
 bool InsidePolygon(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
   bool inside = false;
   for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {

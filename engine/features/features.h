@@ -8,6 +8,8 @@
 
 #include <Eigen/Core>
 
+#include "engine/features/extraction.h"
+
 namespace anchordb::engine {
 
 // Descriptor length of the scene plane descriptor "spd" (engine/features/extraction.h).
@@ -41,6 +43,13 @@ Codebook BuildCodebook(const std::vector<float>& descriptors, int dims, int word
 int NearestWord(const Codebook& book, const std::vector<float>& descriptor);
 // A normalised histogram of codewords over `words` bins (all zero for no codewords).
 std::vector<double> BagOfWords(const std::vector<int>& codewords, int words);
+// One cloud's bag of words of one feature type (thesis 4.3.2): each feature of `type` whose descriptor has the
+// codebook's length coded to its nearest word, then BagOfWords over the codebook's words; `coded` counts them.
+struct TypedBag {
+  int coded = 0;
+  std::vector<double> bag;
+};
+TypedBag BagOfWordsOfType(const std::vector<ExtractedFeature>& features, const std::string& type, const Codebook& book);
 
 // Whether the point (x, y) lies inside the simple polygon (even-odd rule; map frame [m]).
 bool InsidePolygon(const std::vector<Eigen::Vector2d>& polygon_m, const Eigen::Vector2d& p_m);

@@ -141,14 +141,11 @@ InstanceClassificationResult ClassifierService::ClassifyInstance(const ClassifyI
   for (std::size_t t = 0; t < model->feature_types.size(); ++t) {
     const std::string& type = model->feature_types[t];
     const engine::Codebook& book = in.codebooks[t];
-    std::vector<int> words;
-    for (const auto& f : extracted) {
-      if (f.type == type && static_cast<int>(f.descriptor.size()) == book.dims) words.push_back(engine::NearestWord(book, f.descriptor));
-    }
+    engine::TypedBag coded = engine::BagOfWordsOfType(extracted, type, book);
     InstanceClassificationResult::PerType per;
     per.type = type;
-    per.features = static_cast<int>(words.size());
-    per.bag = engine::BagOfWords(words, book.words);
+    per.features = coded.coded;
+    per.bag = std::move(coded.bag);
     engine::FeatureMatrix m(1, book.words);
     for (int w = 0; w < book.words; ++w) m(0, w) = static_cast<float>(per.bag[static_cast<std::size_t>(w)]);
     features.push_back(std::move(m));

@@ -83,3 +83,24 @@ TEST(CodebookTest, KMeansSeparatesClustersAndBagsNormalise) {
 
 }  // namespace
 }  // namespace anchordb::engine
+
+namespace anchordb::engine {
+namespace {
+
+TEST(CodebookTest, ABagOfOneTypeCodesOnlyThatTypesFeaturesOfTheCodebooksLength) {
+  const Codebook book{2, 2, {0.f, 0.f, 10.f, 10.f}};
+  const auto feature = [](const char* type, std::vector<float> d) { return ExtractedFeature{type, std::move(d), Eigen::Vector3d::Zero()}; };
+  const std::vector<ExtractedFeature> features = {feature("fpfh", {1.f, 1.f}), feature("fpfh", {9.f, 9.f}), feature("fpfh", {9.5f, 9.f}),
+                                                  feature("shot", {0.f, 0.f}), feature("fpfh", {0.f, 0.f, 0.f})};
+  const TypedBag fpfh = BagOfWordsOfType(features, "fpfh", book);
+  EXPECT_EQ(fpfh.coded, 3) << "the shot feature and the 3-value one are not coded";
+  ASSERT_EQ(fpfh.bag.size(), 2u);
+  EXPECT_NEAR(fpfh.bag[0], 1.0 / 3, 1e-12);
+  EXPECT_NEAR(fpfh.bag[1], 2.0 / 3, 1e-12);
+  const TypedBag spd = BagOfWordsOfType(features, "spd", book);
+  EXPECT_EQ(spd.coded, 0);
+  EXPECT_EQ(spd.bag, (std::vector<double>{0.0, 0.0}));
+}
+
+}  // namespace
+}  // namespace anchordb::engine

@@ -68,6 +68,8 @@ MOVED_RULES = (
     ("engine/segmentation/segment_decisions.h", "AverageCategoryShares",
      "services/segmentation/furniture_segmentation_service.cc", r"\*\s*n\s*\+.*\)\s*/\s*\(n\s*\+\s*1"),
     ("engine/events/labels.h", "FurnitureName", "services/events/event_queries.cc", r"\"furniture\"\s*:"),
+    ("engine/features/features.h", "BagOfWordsOfType", "services/classification/object_classification.cc",
+     r"words\.push_back\(engine::NearestWord"),
     ("engine/octomap/leaf_centres.h", "LeafCentres", "services/common/capabilities.cc", r"size_m\s*/\s*res"),
 )
 
