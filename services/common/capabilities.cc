@@ -14,6 +14,7 @@
 #include "services/jobs/job_settings.h"
 #include "services/octomap/octomap_settings.h"
 #include "services/scene/scene_settings.h"
+#include "services/shapes/shape_settings.h"
 
 namespace anchordb::services {
 
@@ -49,6 +50,7 @@ void BindCapabilitySettings(SettingsBinder& b, CapabilityOptions& o) {
   BindJobSettings(b, o.jobs);
   BindOctomapSettings(b, o.octomap);
   BindFeatureSettings(b, o.features);
+  BindShapeSettings(b, o.shapes);
 }
 
 Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, const Clock& clock)

@@ -9,6 +9,8 @@
 #include "tests/support/temp_dir.h"
 
 #include <gtest/gtest.h>
+
+#include <map>
 #include <httplib.h>
 
 #include <chrono>
@@ -33,8 +35,8 @@ std::vector<Eigen::Vector3f> View(const std::string& obj, double azimuth_rad, co
 
 class ShapesHttpTest : public ::testing::Test {
  protected:
-  void Start() {
-    server_ = std::make_unique<testing::ServerProcess>(dir_.File("db.sqlite"));
+  void Start(std::vector<std::string> args = {}) {
+    server_ = std::make_unique<testing::ServerProcess>(dir_.File("db.sqlite"), std::move(args));
     client_ = std::make_unique<httplib::Client>("127.0.0.1", server_->port());
     client_->set_read_timeout(120, 0);
   }
@@ -120,6 +122,27 @@ TEST_F(ShapesHttpTest, TrainClassifyDetectAndRestart) {
   EXPECT_EQ(PostCloud("/v1/shape-models/furniture:classify", cabinet_ply, 200), cabinet);
   EXPECT_EQ(PostCloud("/v1/shape-models/furniture:detect", scene_pcd, 200), detected);
   EXPECT_EQ(Get("/v1/shape-models/furniture")["report"], model["report"]);
+}
+
+// The capability's limits are settings (serve --shapes_max_samples, --shapes_max_points), served by GET /v1/settings
+// and enforced with 413.
+TEST_F(ShapesHttpTest, LimitsAreSettingsThatTheServerEnforces) {
+  Start({"--shapes_max_samples=2", "--shapes_max_points=100"});
+  std::map<std::string, json> settings;
+  const json listed = Get("/v1/settings");
+  for (const json& s : listed["settings"]) settings[s["name"].get<std::string>()] = s["value"];
+  EXPECT_EQ(settings["shapes_max_samples"], 2);
+  EXPECT_EQ(settings["shapes_max_points"], 100);
+  EXPECT_EQ(Train(Spec("big"), Parts(), 413)["error"]["field"], "samples") << "3 samples over a limit of 2";
+  // Two samples, within the limit, but a cloud part of more than 100 points.
+  json two = Spec("big");
+  two["categories"] = {"table"};
+  two["samples"] = {two["samples"][0], two["samples"][2]};
+  httplib::MultipartFormDataItems parts = Parts();
+  parts.erase(parts.begin() + 1);
+  ASSERT_GT(View(testing::TableObj(), 0.1).size(), 100u);
+  EXPECT_EQ(Train(two, parts, 413)["error"]["field"], "t_scan");
+  EXPECT_EQ(Get("/v1/shape-models")["shape_models"].size(), 0u);
 }
 
 TEST_F(ShapesHttpTest, BadInputIsRefusedAndNothingIsStored) {
