@@ -2,6 +2,7 @@
 
 #include <signal.h>
 #include <sys/wait.h>
+#include <sys/prctl.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -40,9 +41,15 @@ ServerProcess::ServerProcess(const std::string& db_path, std::vector<std::string
   args.insert(args.end(), extra_args.begin(), extra_args.end());
   int out[2];
   if (pipe(out) != 0) throw std::runtime_error("pipe failed");
+  const pid_t test_pid = getpid();
   pid_ = fork();
   if (pid_ < 0) throw std::runtime_error("fork failed");
   if (pid_ == 0) {
+    // The server dies with the test (a test that aborts, e.g. on a sanitizer report, runs no destructor): an orphaned
+    // server would hold ctest's output pipe open and stall the run until its timeout. (Tests start servers from the
+    // thread that lives as long as the test.)
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != test_pid) _exit(127);  // the test ended before prctl
     dup2(out[1], STDOUT_FILENO);
     close(out[0]);
     close(out[1]);
