@@ -34,6 +34,7 @@ struct CapabilityOptions {
   OctomapSettings octomap;
   FeatureSettings features;
   ShapeSettings shapes;
+  SegmentationSettings segmentation;
 };
 
 // Binds the settings of every capability, in a stable order.

@@ -14,6 +14,7 @@
 #include "services/jobs/job_settings.h"
 #include "services/octomap/octomap_settings.h"
 #include "services/scene/scene_settings.h"
+#include "services/segmentation/segmentation_settings.h"
 #include "services/shapes/shape_settings.h"
 
 namespace anchordb::services {
@@ -25,9 +26,9 @@ std::vector<std::string> CategoryIds(const std::string& knowledge_json) {
   for (const auto& c : knowledge.categories.all()) ids.push_back(c.id);
   return ids;
 }
-// The map's OctoMap as points at its resolution (engine/octomap/leaf_centres.h). Up to
-// FurnitureSegmentationService::kMaxCloudPoints (more: kPayloadTooLarge).
-std::optional<OccupiedCloud> OccupiedCloudOf(OctomapService& octomap, const std::string& map) {
+// The map's OctoMap as points at its resolution (engine/octomap/leaf_centres.h). Up to `max_points` (more:
+// kPayloadTooLarge).
+std::optional<OccupiedCloud> OccupiedCloudOf(OctomapService& octomap, const std::string& map, std::size_t max_points) {
   octomap.Follow(map);  // keyframes stored since the tree's last update (with octomap_from_keyframes)
   if (!octomap.HasTree(map)) return std::nullopt;
   OccupiedCloud out;
@@ -35,7 +36,7 @@ std::optional<OccupiedCloud> OccupiedCloudOf(OctomapService& octomap, const std:
   const engine::Box3 everywhere{Eigen::Vector3d::Constant(-1e9), Eigen::Vector3d::Constant(1e9)};
   const VoxelsResult voxels = octomap.OccupiedVoxels(map, everywhere, std::nullopt);
   out.truncated = voxels.truncated;
-  out.points_m = engine::LeafCentres(voxels.voxels, out.resolution_m, FurnitureSegmentationService::kMaxCloudPoints);
+  out.points_m = engine::LeafCentres(voxels.voxels, out.resolution_m, max_points);
   return out;
 }
 
@@ -51,6 +52,7 @@ void BindCapabilitySettings(SettingsBinder& b, CapabilityOptions& o) {
   BindOctomapSettings(b, o.octomap);
   BindFeatureSettings(b, o.features);
   BindShapeSettings(b, o.shapes);
+  BindSegmentationSettings(b, o.segmentation);
 }
 
 Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, const Clock& clock)
@@ -70,7 +72,9 @@ Capabilities::Capabilities(storage::Store& store, const CapabilityOptions& o, co
       segmentation(store, jobs, CategoryIds(furniture.knowledge_json()), clock, SegmentationLinks{
           [this](const std::string& name) { return shapes.Find(name); },
           [this] { return shapes.Newest(); },
-          [this](const std::string& map) { return OccupiedCloudOf(octomap, map); }}) {
+          [this, max_points = o.segmentation.max_cloud_points](const std::string& map) {
+            return OccupiedCloudOf(octomap, map, max_points);
+          }}, o.segmentation) {
   // Stored keyframes go to feature extraction (by setting), then the OctoMap feed, then the analysis queue.
   scenes.SetKeyframeListener(&keyframe_features);
 }

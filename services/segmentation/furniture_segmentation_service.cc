@@ -109,8 +109,9 @@ SegmentationOutcome RunSegmentation(const FurnitureSegmentationService::Core& co
                                     const std::vector<Eigen::Vector3f>* client_cloud);
 
 FurnitureSegmentationService::FurnitureSegmentationService(storage::Store& store, JobService& jobs, std::vector<std::string> category_ids,
-                                                           const Clock& clock, SegmentationLinks links)
-    : store_(store), jobs_(jobs), core_(std::make_shared<Core>(Core{store, std::move(category_ids), clock, std::move(links)})) {
+                                                           const Clock& clock, SegmentationLinks links, SegmentationSettings settings)
+    : store_(store), jobs_(jobs),
+      core_(std::make_shared<Core>(Core{store, std::move(category_ids), clock, std::move(links), settings})) {
   JobKind kind;
   kind.name = "furniture_segment";
   kind.first_stage = "reading";
@@ -159,7 +160,7 @@ JobTicket FurnitureSegmentationService::Submit(const std::string& map, const Seg
     throw Error(ErrorCode::kUnprocessable, "this server has no OctoMap capability; use source keyframes or cloud", "source");
   }
   if (request.source != SegmentationSource::kCloud) return jobs_.Submit("furniture_segment", map, SegmentationRequestDocument(request));
-  std::vector<Eigen::Vector3f> cloud = DecodeRoomCloud(request.cloud_bytes, request.skip_nonfinite);
+  std::vector<Eigen::Vector3f> cloud = DecodeRoomCloud(request.cloud_bytes, request.skip_nonfinite, core_->settings.max_cloud_points);
   std::int64_t staging = 0;
   {
     std::lock_guard<std::mutex> lock(core_->staging->mutex);
@@ -177,7 +178,7 @@ JobTicket FurnitureSegmentationService::Submit(const std::string& map, const Seg
 
 SegmentationOutcome FurnitureSegmentationService::Run(const std::string& map, const SegmentationRequest& r, std::optional<std::int64_t> job_id) {
   std::vector<Eigen::Vector3f> cloud;
-  if (r.source == SegmentationSource::kCloud) cloud = DecodeRoomCloud(r.cloud_bytes, r.skip_nonfinite);
+  if (r.source == SegmentationSource::kCloud) cloud = DecodeRoomCloud(r.cloud_bytes, r.skip_nonfinite, core_->settings.max_cloud_points);
   return RunSegmentation(*core_, map, r, job_id, &cloud);
 }
 

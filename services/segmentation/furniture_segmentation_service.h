@@ -43,15 +43,21 @@ struct SegmentationLinks {
   std::function<std::optional<OccupiedCloud>(const std::string& map)> octomap;
 };
 
+// The segmentation capability's settings (services/segmentation/segmentation_settings.h binds them).
+struct SegmentationSettings {
+  std::size_t max_cloud_points = 4'000'000;  // a client's room cloud, and an OctoMap's occupied leaves: more is 413
+};
+
 class FurnitureSegmentationService {
  public:
   // `category_ids`: the grounding knowledge's categories (p(f) is over these).
   FurnitureSegmentationService(storage::Store& store, JobService& jobs, std::vector<std::string> category_ids,
-                               const Clock& clock = SystemClock::Instance(), SegmentationLinks links = {});
+                               const Clock& clock = SystemClock::Instance(), SegmentationLinks links = {},
+                               SegmentationSettings settings = {});
 
   // Checks the request (Error naming "params.<name>", "keyframes", "max_range_m", "match_iou", "shape_model",
   // "source"; for the cloud source "body": bytes that do not decode 400, an empty cloud or NaN points 422, more than
-  // `max_cloud_points` 413) and queues the job. Unknown map kNotFound.
+  // settings' max_cloud_points 413) and queues the job. Unknown map kNotFound.
   JobTicket Submit(const std::string& map, const SegmentationRequest& request);
   // What the job does, run here and now (tests, evaluations, benchmarks).
   SegmentationOutcome Run(const std::string& map, const SegmentationRequest& request,
@@ -62,8 +68,6 @@ class FurnitureSegmentationService {
   FurnitureInstanceView Get(const std::string& map, std::int64_t id);  // kNotFound field "furniture"
   // The stored cloud of a perceived piece; an operator's piece has none (kUnprocessable).
   ExportedLayer Cloud(const std::string& map, std::int64_t id, engine::CloudFormat format);
-
-  static constexpr std::size_t kMaxCloudPoints = 4'000'000;  // a client's room cloud, and an OctoMap's voxels
 
   // Room clouds of submitted cloud-source jobs, waiting in memory for their job (by staging number).
   struct CloudStaging {
@@ -77,6 +81,7 @@ class FurnitureSegmentationService {
     std::vector<std::string> category_ids;
     const Clock& clock;
     SegmentationLinks links;
+    SegmentationSettings settings;
     std::shared_ptr<CloudStaging> staging = std::make_shared<CloudStaging>();
   };
 
@@ -90,8 +95,8 @@ class FurnitureSegmentationService {
 // points are not in it, only their `staging` number.
 std::string SegmentationRequestDocument(const SegmentationRequest& r, std::optional<std::int64_t> staging = std::nullopt);
 SegmentationRequest SegmentationRequestFromDocument(const std::string& text, std::optional<std::int64_t>* staging = nullptr);
-// The decoded room cloud of the cloud source (Error field "body" as Submit says).
-std::vector<Eigen::Vector3f> DecodeRoomCloud(const std::string& bytes, bool skip_nonfinite);
+// The decoded room cloud of the cloud source, of at most `max_points` points (Error field "body" as Submit says).
+std::vector<Eigen::Vector3f> DecodeRoomCloud(const std::string& bytes, bool skip_nonfinite, std::size_t max_points);
 // Throws Error naming the field for a value out of range.
 void CheckSegmentationRequest(const SegmentationRequest& r);
 

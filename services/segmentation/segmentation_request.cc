@@ -99,11 +99,11 @@ void CheckSegmentationRequest(const SegmentationRequest& r) {
 
 namespace anchordb::services {
 
-std::vector<Eigen::Vector3f> DecodeRoomCloud(const std::string& bytes, bool skip_nonfinite) {
+std::vector<Eigen::Vector3f> DecodeRoomCloud(const std::string& bytes, bool skip_nonfinite, std::size_t max_points) {
   if (bytes.empty()) throw Error(ErrorCode::kUnprocessable, "the room cloud is empty (send a PCD or PLY body)", "body");
   engine::DecodedCloud cloud;
   try {
-    cloud = engine::DecodeCloud(bytes, FurnitureSegmentationService::kMaxCloudPoints);
+    cloud = engine::DecodeCloud(bytes, max_points);
   } catch (const Error& e) {
     throw Error(e.code(), e.what(), "body");
   }

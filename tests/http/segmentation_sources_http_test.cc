@@ -117,6 +117,32 @@ class SegmentationSourcesHttpTest : public ::testing::Test {
   std::unique_ptr<httplib::Client> client_;
 };
 
+// The room cloud's size limit is a setting (serve --segmentation_max_cloud_points), served by GET /v1/settings: a
+// cloud over it is refused with 413 naming the body, one within it is queued.
+TEST_F(SegmentationSourcesHttpTest, TheCloudLimitIsASettingTheServerEnforces) {
+  client_.reset();
+  server_ = std::make_unique<testing::ServerProcess>(dir_.File("limited.sqlite"),
+                                                     std::vector<std::string>{"--segmentation_max_cloud_points=1000"});
+  client_ = std::make_unique<httplib::Client>("127.0.0.1", server_->port());
+  client_->set_read_timeout(120, 0);
+  Json("POST", "/v1/maps", {{"id", "flat"}, {"name", "flat"}}, 201);
+  const json listed = Json("GET", "/v1/settings", json(), 200);
+  bool found = false;
+  for (const json& setting : listed["settings"]) {
+    if (setting["name"] != "segmentation_max_cloud_points") continue;
+    found = true;
+    EXPECT_EQ(setting["value"], 1000);
+  }
+  EXPECT_TRUE(found);
+  const std::vector<Eigen::Vector3f> room = RoomCloud();
+  ASSERT_GT(room.size(), 1000u);
+  const std::string path = "/v1/maps/flat/furniture:segment";
+  const json e = Body(path, engine::EncodeCloud(room, engine::CloudFormat::kPcdBinary), "application/x-pcd", 413);
+  EXPECT_EQ(e["error"]["field"], "body") << e.dump();
+  const std::vector<Eigen::Vector3f> part(room.begin(), room.begin() + 1000);
+  Body(path, engine::EncodeCloud(part, engine::CloudFormat::kPcdBinary), "application/x-pcd", 202);
+}
+
 TEST_F(SegmentationSourcesHttpTest, ClientCloudBodyIsSegmentedAndBadBodiesAreRefused) {
   const std::vector<Eigen::Vector3f> room = RoomCloud();
   const std::string path = "/v1/maps/flat/furniture:segment";
