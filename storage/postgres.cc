@@ -324,23 +324,17 @@ PGresult* PostgresConnection::ExecPreparedAfterBegin(const std::string& name, in
 
 void PostgresConnection::BeginWrite() {
   // BEGIN and the write lock in one simple-query message: one round trip, not two, before a write's first statement
-  // (the lock is "anchordb" read as ASCII, as one 63-bit key). Either failing leaves no transaction open but an
-  // aborted one, which EndStuckTransaction rolls back.
+  // (the lock is "anchordb" read as ASCII, as one 63-bit key). A failure of either rolls back what was begun; a
+  // session the server dropped while it was idle began nothing, so both are sent once more on a new session.
   static constexpr std::string_view kBeginAndLock = "BEGIN; SELECT pg_advisory_xact_lock(7020658169314698338)";
-  try {
-    Exec(kBeginAndLock);
-  } catch (const Error& e) {
-    // A session the server dropped while it was idle: nothing was begun, so both are sent again on a new session.
-    const bool dropped_idle = e.code() == ErrorCode::kUnavailable && !(conn_ && PQstatus(conn_) == CONNECTION_OK);
-    if (!dropped_idle) {
-      EndStuckTransaction();
-      throw;
-    }
+  for (int attempt = 1;; ++attempt) {
     try {
       Exec(kBeginAndLock);
-    } catch (...) {
+      return;
+    } catch (const Error& e) {
+      const bool dropped_idle = e.code() == ErrorCode::kUnavailable && !(conn_ && PQstatus(conn_) == CONNECTION_OK);
       EndStuckTransaction();
-      throw;
+      if (!dropped_idle || attempt == 2) throw;
     }
   }
 }

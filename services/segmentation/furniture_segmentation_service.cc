@@ -26,8 +26,6 @@ using Json = nlohmann::json;  // at namespace scope, as in segmentation_request.
 namespace {
 namespace seg = engine::segmentation;
 
-using Camera = seg::KeyframeView;
-
 std::string EncodeCloudBlob(const std::vector<Eigen::Vector3f>& points) {
   std::vector<float> flat;
   flat.reserve(points.size() * 3);
@@ -225,7 +223,7 @@ SegmentationOutcome RunSegmentation(const FurnitureSegmentationService::Core& co
   out.shape_model = model_name;
   seg::SegmentationParams params = r.params;
   // 1. The room cloud.
-  std::vector<Camera> cameras;
+  std::vector<seg::KeyframeView> cameras;
   std::vector<Eigen::Vector3f> cloud;
   store_.Read([&](storage::Connection& c) {
     RequireMap(c, map);
