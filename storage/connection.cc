@@ -5,8 +5,17 @@
 
 namespace anchordb::storage {
 
+namespace {
+const Connection& CountedAgainstOneStatementRead(const Connection& connection, int& left) {
+  if (left == 0) throw Error(ErrorCode::kInternal, "a one-statement read ran a second statement (read with a snapshot)");
+  if (left > 0) --left;
+  return connection;
+}
+}  // namespace
+
 Statement::Statement(const Connection& connection, std::string_view sql)
-    : connection_(connection), cursor_(connection.Acquire(sql)) {}
+    : connection_(CountedAgainstOneStatementRead(connection, connection.one_statement_left_)),
+      cursor_(connection.Acquire(sql)) {}
 
 Statement::~Statement() { connection_.Release(std::move(cursor_)); }
 
@@ -22,12 +31,14 @@ std::int64_t Statement::RunReturningId() {
   return id;
 }
 
-ReadTransaction::ReadTransaction(Connection& connection) : connection_(connection) {
+ReadTransaction::ReadTransaction(Connection& connection, ReadScope scope) : connection_(connection) {
   connection_.EndStuckTransaction();  // an earlier snapshot whose end failed (out of memory) must not stay open
-  connection_.BeginRead();
+  connection_.BeginRead(scope);
+  connection_.one_statement_left_ = scope == ReadScope::kOneStatement ? 1 : -1;
 }
 
 ReadTransaction::~ReadTransaction() {
+  connection_.one_statement_left_ = -1;
   try {
     connection_.EndRead();
   } catch (...) {

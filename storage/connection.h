@@ -18,6 +18,12 @@ namespace anchordb::storage {
 
 enum class Engine { kSqlite, kPostgresql };
 
+// What a read transaction promises. kSnapshot: several statements that must see one snapshot (a transaction is
+// begun). kOneStatement: exactly one statement, consistent on its own, so no transaction is begun at all (on
+// PostgreSQL that saves the BEGIN and the ROLLBACK, two of the three messages of a one-query read); a second
+// statement in such a read is a programming error (kInternal), found by the first test that runs it.
+enum class ReadScope { kSnapshot, kOneStatement };
+
 // Settings of one connection. `busy_timeout_ms`, `synchronous` and `vfs` are SQLite's (a file's lock wait, its
 // fsync level, the VFS to open it with; empty: the process default).
 struct ConnectionOptions {
@@ -66,13 +72,16 @@ class Connection {
   // Asks the statement running on this connection (from another thread) to stop: it fails as soon as it can.
   virtual void Interrupt() = 0;
   // Transaction control for Transaction and ReadTransaction: a write transaction that takes the write lock at once,
-  // and a read transaction whose statements share one snapshot.
+  // and a read of the given scope (kSnapshot: its statements share one snapshot).
   virtual void BeginWrite() = 0;
-  virtual void BeginRead() = 0;
+  virtual void BeginRead(ReadScope scope) = 0;
   virtual void EndRead() = 0;
 
  private:
   friend class Statement;
+  friend class ReadTransaction;
+  // Statements a kOneStatement read may still prepare (-1 outside such a read); checked by Statement's constructor.
+  mutable int one_statement_left_ = -1;
   // A prepared statement for `sql`, reused across calls (preparing is the largest cost of short queries); the
   // Statement hands it back with Release. A connection is used by one thread at a time.
   virtual std::unique_ptr<Cursor> Acquire(std::string_view sql) const = 0;
@@ -132,11 +141,12 @@ class Transaction {
   bool done_ = false;
 };
 
-// The statements run inside share one read snapshot (a consistent answer across several queries). Ends in the
-// destructor; nothing to commit.
+// A read: with kSnapshot the statements run inside share one read snapshot (a consistent answer across several
+// queries); with kOneStatement exactly one statement runs, in no transaction. Ends in the destructor; nothing to
+// commit.
 class ReadTransaction {
  public:
-  explicit ReadTransaction(Connection& connection);
+  explicit ReadTransaction(Connection& connection, ReadScope scope = ReadScope::kSnapshot);
   ~ReadTransaction();
   ReadTransaction(const ReadTransaction&) = delete;
   ReadTransaction& operator=(const ReadTransaction&) = delete;

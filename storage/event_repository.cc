@@ -14,23 +14,24 @@ constexpr const char* kInstanceColumns =
     "id, map_id, kind, status, labels, label_locked, status_locked, pinned, x_m, y_m, z_m, extent_x_m, extent_y_m, "
     "extent_z_m, yaw_rad, last_seen_ns, last_scene_id, created_ns, updated_ns";
 
-InstanceRecord ReadInstance(const Statement& s, bool with_sample) {
+// An instance from kInstanceColumns starting at column `at` (then the sample when asked for).
+InstanceRecord ReadInstance(const Statement& s, bool with_sample, int at = 0) {
   InstanceRecord r;
-  r.id = s.Int(0);
-  r.map_id = s.Text(1);
-  r.kind = s.Text(2);
-  r.status = s.Text(3);
-  r.labels_json = s.Text(4);
-  r.label_locked = s.Int(5) != 0;
-  r.status_locked = s.Int(6) != 0;
-  r.pinned = s.Int(7) != 0;
-  for (int k = 0; k < 3; ++k) r.position[k] = s.Double(8 + k), r.extent[k] = s.Double(11 + k);
-  r.yaw_rad = s.Double(14);
-  r.last_seen_ns = s.Int(15);
-  r.last_scene_id = OptionalInt(s, 16);
-  r.created_ns = s.Int(17);
-  r.updated_ns = s.Int(18);
-  if (with_sample && !s.IsNull(19)) r.sample = s.Blob(19);
+  r.id = s.Int(at + 0);
+  r.map_id = s.Text(at + 1);
+  r.kind = s.Text(at + 2);
+  r.status = s.Text(at + 3);
+  r.labels_json = s.Text(at + 4);
+  r.label_locked = s.Int(at + 5) != 0;
+  r.status_locked = s.Int(at + 6) != 0;
+  r.pinned = s.Int(at + 7) != 0;
+  for (int k = 0; k < 3; ++k) r.position[k] = s.Double(at + 8 + k), r.extent[k] = s.Double(at + 11 + k);
+  r.yaw_rad = s.Double(at + 14);
+  r.last_seen_ns = s.Int(at + 15);
+  r.last_scene_id = OptionalInt(s, at + 16);
+  r.created_ns = s.Int(at + 17);
+  r.updated_ns = s.Int(at + 18);
+  if (with_sample && !s.IsNull(at + 19)) r.sample = s.Blob(at + 19);
   return r;
 }
 
@@ -164,14 +165,15 @@ void AppendHistory(Connection& c, const HistoryRecord& h) {
 }
 
 namespace {
-HistoryRecord ReadHistory(const Statement& s) {
+// A history entry from kHistoryColumns starting at column `at`.
+HistoryRecord ReadHistory(const Statement& s, int at = 0) {
   HistoryRecord h;
-  h.instance_id = s.Int(0);
-  h.seq = s.Int(1);
-  h.stamp_ns = s.Int(2);
-  h.present = s.Int(3) != 0;
-  for (int k = 0; k < 3; ++k) h.position[k] = s.Double(4 + k);
-  h.event_id = OptionalInt(s, 7);
+  h.instance_id = s.Int(at + 0);
+  h.seq = s.Int(at + 1);
+  h.stamp_ns = s.Int(at + 2);
+  h.present = s.Int(at + 3) != 0;
+  for (int k = 0; k < 3; ++k) h.position[k] = s.Double(at + 4 + k);
+  h.event_id = OptionalInt(s, at + 7);
   return h;
 }
 constexpr const char* kHistoryColumns = "instance_id, seq, stamp_ns, present, x_m, y_m, z_m, event_id";
@@ -191,6 +193,53 @@ std::optional<HistoryRecord> HistoryAt(Connection& c, std::int64_t instance_id, 
   s.Bind(1, instance_id).Bind(2, at_ns);
   if (!s.Step()) return std::nullopt;
   return ReadHistory(s);
+}
+
+namespace {
+// "a, b" -> "p.a, p.b"
+std::string Qualified(std::string_view columns, std::string_view prefix) {
+  std::string out(prefix);
+  for (const char ch : columns) {
+    out += ch;
+    if (ch == ' ') out += prefix;
+  }
+  return out;
+}
+}  // namespace
+
+WhereInputs ReadWhereInputs(Connection& c, const std::string& map_id, const std::string& label, std::int64_t at_ns) {
+  // Three parts in one UNION ALL, told apart by the first column: 0 a labelled object and its history entry at the
+  // time (instance columns from 1, history columns from 20), 1 a piece of furniture, 2 the newest graph id (column 1).
+  constexpr const char* kNoHistory = ", NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL";
+  const std::string sql =
+      std::string("SELECT 0, ") + Qualified(kInstanceColumns, "i.") + ", " + Qualified(kHistoryColumns, "h.") +
+      " FROM instances AS i LEFT JOIN instance_history AS h ON h.instance_id = i.id AND h.seq = ("
+      "SELECT h2.seq FROM instance_history AS h2 WHERE h2.instance_id = i.id AND h2.stamp_ns <= ?3"
+      " ORDER BY h2.stamp_ns DESC, h2.seq DESC LIMIT 1)"
+      " WHERE i.map_id = ?1 AND i.kind = 'object' AND i.status != 'deleted'"
+      " AND i.id IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1 AND label = ?2)"
+      " UNION ALL SELECT 1, f.*" + kNoHistory + " FROM (SELECT " + kInstanceColumns +
+      " FROM instances WHERE map_id = ?1 AND kind = 'furniture' AND status != 'deleted' ORDER BY id LIMIT 10000) AS f"
+      " UNION ALL SELECT 2, (SELECT MAX(id) FROM furniture_graphs WHERE map_id = ?1)" +
+      ", NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL" +
+      kNoHistory + " ORDER BY 1, 2";
+  Statement s(c, sql);
+  s.Bind(1, map_id).Bind(2, label).Bind(3, at_ns);
+  WhereInputs out;
+  constexpr int kInstanceAt = 1, kHistoryAt = 20;
+  while (s.Step()) {
+    const std::int64_t part = s.Int(0);
+    if (part == 0) {
+      WhereCandidateRecord r{ReadInstance(s, false, kInstanceAt), std::nullopt};
+      if (!s.IsNull(kHistoryAt)) r.position = ReadHistory(s, kHistoryAt);
+      out.labelled.push_back(std::move(r));
+    } else if (part == 1) {
+      out.furniture.push_back(ReadInstance(s, false, kInstanceAt));
+    } else {
+      out.newest_graph_id = OptionalInt(s, kInstanceAt);
+    }
+  }
+  return out;
 }
 
 std::int64_t InsertEvent(Connection& c, const EventRecord& e) {

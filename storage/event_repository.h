@@ -72,6 +72,20 @@ std::vector<HistoryRecord> ListHistory(Connection& c, std::int64_t instance_id);
 // The last history entry at or before `at_ns`.
 std::optional<HistoryRecord> HistoryAt(Connection& c, std::int64_t instance_id, std::int64_t at_ns);
 
+// What "where is <label>?" reads first, in one statement (one round trip on PostgreSQL, no transaction needed):
+// the map's objects a person labelled `label` (not deleted, by id) with their history entry at or before `at_ns`,
+// the map's furniture instances (not deleted, by id, at most 10,000), and the id of its newest furniture graph.
+struct WhereCandidateRecord {
+  InstanceRecord instance;
+  std::optional<HistoryRecord> position;
+};
+struct WhereInputs {
+  std::vector<WhereCandidateRecord> labelled;
+  std::vector<InstanceRecord> furniture;
+  std::optional<std::int64_t> newest_graph_id;
+};
+WhereInputs ReadWhereInputs(Connection& c, const std::string& map_id, const std::string& label, std::int64_t at_ns);
+
 struct EvidenceRecord {
   std::int64_t keyframe_id = 0;
   std::string role;  // before | after

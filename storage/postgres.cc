@@ -269,12 +269,17 @@ void PostgresConnection::Drain() const {
   }
 }
 
-void PostgresConnection::BeginRead() {
+void PostgresConnection::BeginRead(ReadScope scope) {
   EnsureConnected();
-  pending_begin_ = "BEGIN ISOLATION LEVEL REPEATABLE READ READ ONLY";
+  one_statement_read_ = scope == ReadScope::kOneStatement;
+  if (!one_statement_read_) pending_begin_ = "BEGIN ISOLATION LEVEL REPEATABLE READ READ ONLY";
 }
 
 void PostgresConnection::EndRead() {
+  if (one_statement_read_) {  // nothing was begun
+    one_statement_read_ = false;
+    return;
+  }
   if (!pending_begin_.empty()) {  // no statement ran: nothing was begun
     pending_begin_.clear();
     return;
@@ -370,14 +375,16 @@ void PostgresConnection::Interrupt() {
 PGresult* PostgresConnection::Run(const std::string& sql, int parameters, const Oid* types, const char* const* values,
                                   const int* lengths, const int* formats) const {
   EnsureConnected();
-  // The first statement of a read transaction on a session the server dropped meanwhile (a restart or failover
-  // while the connection was idle: libpq learns it only now) runs again on a new session: nothing was read or
-  // written yet. Any other statement's failure is the caller's (a write may have been applied before the loss).
+  // The first statement of a read transaction (or the only one of a one-statement read) on a session the server
+  // dropped meanwhile (a restart or failover while the connection was idle: libpq learns it only now) runs again on a
+  // new session: nothing was read or written yet. Any other statement's failure is the caller's (a write may have
+  // been applied before the loss).
   const std::string begin = pending_begin_;
   try {
     return RunOnce(sql, parameters, types, values, lengths, formats);
   } catch (const Error& e) {
-    if (begin.empty() || e.code() != ErrorCode::kUnavailable || (conn_ && PQstatus(conn_) == CONNECTION_OK)) throw;
+    const bool first_of_read = !begin.empty() || one_statement_read_;
+    if (!first_of_read || e.code() != ErrorCode::kUnavailable || (conn_ && PQstatus(conn_) == CONNECTION_OK)) throw;
     EnsureConnected();
     pending_begin_ = begin;
     return RunOnce(sql, parameters, types, values, lengths, formats);

@@ -41,7 +41,8 @@ class PostgresConnection final : public Connection {
   // A read transaction costs no round trip of its own: BEGIN is sent in one pipeline with the first statement
   // (libpq's pipeline mode), and the ROLLBACK that ends it is sent without waiting; its answer is read before the
   // connection's next use. A read that ran no statement sends nothing.
-  void BeginRead() override;
+  // kOneStatement begins nothing: the statement runs alone in autocommit (READ COMMITTED: one snapshot).
+  void BeginRead(ReadScope scope) override;
   void EndRead() override;
 
   // For the cursors of this connection: runs a prepared statement (preparing it once per SQL text and parameter
@@ -75,6 +76,7 @@ class PostgresConnection final : public Connection {
   mutable std::int64_t changes_ = 0;
   mutable std::map<std::string, std::string> prepared_;  // SQL + parameter types -> prepared statement name
   mutable std::string pending_begin_;   // a read transaction's BEGIN, not yet sent
+  bool one_statement_read_ = false;     // inside a kOneStatement read (its statement may run again on a new session)
   mutable bool pending_results_ = false;  // a command was sent in pipeline mode and its answers are not read yet
 };
 

@@ -161,8 +161,12 @@ void SqliteConnection::Exec(std::string_view sql) {
 }
 
 // BEGIN and ROLLBACK of a snapshot as cached statements: readers open one per request.
-void SqliteConnection::BeginRead() { Statement(*this, "BEGIN").Run(); }
-void SqliteConnection::EndRead() { Statement(*this, "ROLLBACK").Run(); }
+void SqliteConnection::BeginRead(ReadScope scope) {
+  if (scope == ReadScope::kSnapshot) Statement(*this, "BEGIN").Run();
+}
+void SqliteConnection::EndRead() {
+  if (!sqlite3_get_autocommit(db_)) Statement(*this, "ROLLBACK").Run();  // a one-statement read began nothing
+}
 
 SqliteConnection& SqliteOf(Connection& c) {
   auto* sqlite = dynamic_cast<SqliteConnection*>(&c);

@@ -29,7 +29,8 @@ class SqliteConnection final : public Connection {
   void Interrupt() override { sqlite3_interrupt(db_); }
   // BEGIN IMMEDIATE: the file's write lock is taken at the start, not at the first write.
   void BeginWrite() override { Exec("BEGIN IMMEDIATE"); }
-  void BeginRead() override;
+  // kOneStatement begins nothing: SQLite reads one statement outside a transaction from one snapshot.
+  void BeginRead(ReadScope scope) override;
   void EndRead() override;
 
  private:

@@ -41,6 +41,16 @@ class Store {
     return fn(*lease.connection);
   }
 
+  // Runs `fn`, which runs exactly one statement, on a reader connection with no transaction around it (the
+  // statement is consistent on its own; PostgreSQL is spared a BEGIN and a ROLLBACK). A second statement in `fn`
+  // fails with kInternal: use Read for anything more.
+  template <typename F>
+  auto ReadOneStatement(F&& fn) {
+    Lease lease(*this);
+    ReadTransaction one(*lease.connection, ReadScope::kOneStatement);
+    return fn(*lease.connection);
+  }
+
   // Runs `fn` inside a write transaction on the writer connection and commits; an exception rolls back (nothing of
   // `fn` stays written). A writer connection left inside a transaction by a failure is replaced before the next write.
   template <typename F>

@@ -186,108 +186,141 @@ std::optional<WherePlacement> EventService::GraphPlacement(const std::string& ma
   return out;
 }
 
+namespace {
+
+// Where-is candidates: each instance with its label probability and where it was at the time asked (nullopt when the
+// probability is not positive or nothing was recorded by then).
+struct WhereCandidates {
+  std::vector<storage::InstanceRecord> instances;
+  std::vector<std::optional<storage::HistoryRecord>> positions;
+  std::vector<engine::WhereCandidate> scored;
+
+  void Add(storage::InstanceRecord r, double p, std::optional<storage::HistoryRecord> h) {
+    if (p <= 0.0) h.reset();
+    scored.push_back({p, h ? std::optional(h->stamp_ns) : std::nullopt});
+    positions.push_back(std::move(h));
+    instances.push_back(std::move(r));
+  }
+};
+
+// The second pass, when no person named an object so: the objects a classifier named `label` that nobody named
+// otherwise (engine/classification/object_labels.h). Checks the map first (a missing map is its own 404).
+WhereCandidates ClassifiedCandidates(storage::Connection& c, const std::string& map, const std::string& label,
+                                     std::int64_t at_ns) {
+  RequireMap(c, map);
+  storage::InstanceFilter f;
+  f.kind = "object";
+  f.label = label;
+  f.label_from_classifier = true;  // only the objects whose classification gives the label a share (in SQL)
+  f.limit = 100000;
+  WhereCandidates out;
+  for (auto& r : storage::ListInstances(c, map, f, false)) {
+    const auto k = storage::FindInstanceClassification(c, map, r.id);
+    if (!k) continue;  // named by a person, and found by the first pass's rules
+    const engine::EffectiveLabels labels = engine::EffectiveObjectLabels(DecodeLabels(r.labels_json), r.label_locked,
+                                                                        DecodeDistribution(*k));
+    if (labels.source != engine::LabelSource::kClassifier) continue;
+    const auto p = labels.distribution.find(label);
+    if (p == labels.distribution.end()) continue;
+    std::optional<storage::HistoryRecord> h = p->second > 0.0 ? storage::HistoryAt(c, r.id, at_ns) : std::nullopt;
+    out.Add(std::move(r), p->second, std::move(h));
+  }
+  return out;
+}
+
+// How the answer's position became known (the event that recorded it, with its keyframes) and the camera that saw
+// the object last (the viewer of plain-geometry placement; the origin when none did).
+void ReadProvenance(storage::Connection& c, const std::string& map, const storage::InstanceRecord& best,
+                    const storage::HistoryRecord& h, WhereAnswer& a, std::optional<engine::PositionOrigin>& origin,
+                    engine::grounding::Viewpoint& viewer) {
+  if (h.event_id) {
+    if (const auto e = storage::FindEvent(c, map, *h.event_id)) {
+      for (const auto& k : e->evidence) a.evidence.push_back({k.keyframe_id, k.role, e->id});
+      origin = engine::PositionOrigin{e->type, e->detection};
+    }
+  }
+  if (best.last_scene_id) {
+    if (const auto scene = storage::FindScene(c, map, *best.last_scene_id, false)) {
+      const Pose3 pose = StoredPose(*scene);
+      const Eigen::Vector3d axis = pose.orientation * Eigen::Vector3d::UnitZ();  // the optical axis in the map
+      viewer.position_m = pose.position_m.head<2>();
+      viewer.heading_rad = std::atan2(axis.y(), axis.x());
+    }
+  }
+}
+
+// Plain-geometry placement, for a map without a furniture graph: the nearest furniture instance an operator entered
+// or a segmentation found, described as seen by `viewer`.
+WherePlacement GeometryPlacement(const std::vector<storage::InstanceRecord>& furniture, const Eigen::Vector3d& p_M,
+                                 const engine::grounding::Viewpoint& viewer) {
+  std::vector<engine::FurniturePiece> pieces;
+  for (const auto& r : furniture) {
+    pieces.push_back({std::to_string(r.id), engine::FurnitureName(DecodeLabels(r.labels_json)), {r.position[0], r.position[1]},
+                      {r.extent[0], r.extent[1]}, r.yaw_rad});
+  }
+  const engine::Placement placed = engine::PlaceObject(p_M, pieces, viewer);
+  const engine::FurniturePiece& piece = pieces[static_cast<std::size_t>(placed.piece)];
+  const engine::PlacementWords words = engine::DescribePlacement(placed, piece.name);
+  WherePlacement g;
+  g.furniture_instance = std::stoll(piece.id);
+  g.name = piece.name;
+  g.gap_m = placed.gap_m;
+  g.relation = words.relation;
+  g.frame = "geometry";
+  g.phrase = words.phrase;
+  return g;
+}
+
+}  // namespace
+
+// Reads: the objects a person named so, their positions at the time, the map's furniture and its newest graph come
+// in one statement (one round trip on PostgreSQL, consistent on its own). The classifier's pass and the provenance
+// (the recording event, the last camera) are read after it only when needed: events, their evidence and scenes are
+// never changed once written, so reading them a moment later answers the same (a forgotten one is simply absent).
 WhereAnswer EventService::Where(const std::string& map, const WhereRequest& request) {
   const std::string label = engine::NormaliseLabel(request.label, settings_.max_label_length, "label");
   const std::optional<std::int64_t> at_ns = request.at_ns;
   if (at_ns && *at_ns > clock_.NowNs()) throw Error(ErrorCode::kUnprocessable, "at lies in the future; where answers for the past and now", "at");
-  // One read lease for the answer and the furniture it may be placed against.
-  std::vector<engine::FurniturePiece> pieces;
-  engine::grounding::Viewpoint viewer;  // for plain geometry: the camera that saw the object last (else the origin)
-  std::optional<std::int64_t> graph;    // the map's newest furniture graph
-  WhereAnswer out = store_.Read([&](storage::Connection& c) {
-    storage::InstanceFilter f;  // the map is checked only when nothing is found (instances imply their map)
-    f.kind = "object";
-    f.label = label;
-    f.limit = 100000;
-    std::vector<storage::InstanceRecord> instances = storage::ListInstances(c, map, f, false);
-    std::vector<engine::WhereCandidate> candidates;
-    std::vector<std::optional<storage::HistoryRecord>> positions;
-    const auto consider = [&](const storage::InstanceRecord& r, double p) {
-      positions.push_back(p > 0.0 ? storage::HistoryAt(c, r.id, at_ns.value_or(std::numeric_limits<std::int64_t>::max())) : std::nullopt);
-      candidates.push_back({p, positions.back() ? std::optional(positions.back()->stamp_ns) : std::nullopt});
-    };
-    for (const auto& r : instances) consider(r, engine::LabelProbability(DecodeLabels(r.labels_json), label));
-    int chosen = engine::ChooseWhereCandidate(candidates);
-    std::string label_source;
-    if (chosen >= 0) {
-      label_source = instances[static_cast<std::size_t>(chosen)].label_locked ? "operator" : "dialog";
-    } else {
-      // Nobody named an object so: the objects a classifier named that nobody named otherwise
-      // (engine/classification/object_labels.h).
-      instances.clear();
-      candidates.clear();
-      positions.clear();
-      f.label_from_classifier = true;  // only the objects whose classification gives the label a share (in SQL)
-      for (auto& r : storage::ListInstances(c, map, f, false)) {
-        const auto k = storage::FindInstanceClassification(c, map, r.id);
-        if (!k) continue;  // named by a person, and found by the first pass's rules
-        const engine::EffectiveLabels labels = engine::EffectiveObjectLabels(DecodeLabels(r.labels_json), r.label_locked,
-                                                                            DecodeDistribution(*k));
-        if (labels.source != engine::LabelSource::kClassifier) continue;
-        const auto p = labels.distribution.find(label);
-        if (p == labels.distribution.end()) continue;
-        instances.push_back(std::move(r));
-        consider(instances.back(), p->second);
-      }
-      chosen = engine::ChooseWhereCandidate(candidates);
-      label_source = "classifier";
-    }
-    if (chosen < 0) RequireMap(c, map);
-    if (chosen < 0) throw Error(ErrorCode::kNotFound, "nothing labelled '" + label + "' is known" + (at_ns ? " at that time" : ""), "label");
-    const storage::InstanceRecord& best = instances[static_cast<std::size_t>(chosen)];
-    const storage::HistoryRecord& h = *positions[static_cast<std::size_t>(chosen)];
-    WhereAnswer a;
-    std::optional<engine::PositionOrigin> origin;
-    if (h.event_id) {
-      if (const auto e = storage::FindEvent(c, map, *h.event_id)) {
-        for (const auto& k : e->evidence) a.evidence.push_back({k.keyframe_id, k.role, e->id});
-        origin = engine::PositionOrigin{e->type, e->detection};
-      }
-    }
-    if (best.last_scene_id) {
-      if (const auto scene = storage::FindScene(c, map, *best.last_scene_id, false)) {
-        const Pose3 pose = StoredPose(*scene);
-        const Eigen::Vector3d axis = pose.orientation * Eigen::Vector3d::UnitZ();  // the optical axis in the map
-        viewer.position_m = pose.position_m.head<2>();
-        viewer.heading_rad = std::atan2(axis.y(), axis.x());
-      }
-    }
-    graph = storage::NewestFurnitureGraphId(c, map);
-    // Furniture an operator entered or a segmentation found, for plain-geometry placement when the map has no
-    // furniture graph.
-    storage::InstanceFilter furniture;
-    furniture.kind = "furniture";
-    furniture.limit = 10000;
-    for (const auto& r : storage::ListInstances(c, map, furniture, false)) {
-      pieces.push_back({std::to_string(r.id), engine::FurnitureName(DecodeLabels(r.labels_json)), {r.position[0], r.position[1]},
-                        {r.extent[0], r.extent[1]}, r.yaw_rad});
-    }
-    a.label = label;
-    a.instance_id = best.id;
-    a.present = h.present;
-    a.position_m = Vec(h.position);
-    a.seen_ns = h.stamp_ns;
-    a.how = engine::HowKnown(origin);
-    a.label_probability = candidates[static_cast<std::size_t>(chosen)].label_probability;
-    a.label_source = label_source;
-    a.confidence = engine::WhereConfidence(a.label_probability, a.how);
-    a.at_ns = at_ns;
-    return a;
+  const std::int64_t at = at_ns.value_or(std::numeric_limits<std::int64_t>::max());
+  storage::WhereInputs inputs = store_.ReadOneStatement([&](storage::Connection& c) {
+    return storage::ReadWhereInputs(c, map, label, at);
   });
-  out.placement = GraphPlacement(map, out.position_m, graph);
-  if (!out.placement && !pieces.empty()) {  // plain geometry: the nearest furniture instance an operator entered
-    const engine::Placement placed = engine::PlaceObject(out.position_m, pieces, viewer);
-    const engine::FurniturePiece& piece = pieces[static_cast<std::size_t>(placed.piece)];
-    const engine::PlacementWords words = engine::DescribePlacement(placed, piece.name);
-    WherePlacement g;
-    g.furniture_instance = std::stoll(piece.id);
-    g.name = piece.name;
-    g.gap_m = placed.gap_m;
-    g.relation = words.relation;
-    g.frame = "geometry";
-    g.phrase = words.phrase;
-    out.placement = g;
+  WhereCandidates found;
+  for (auto& r : inputs.labelled) {
+    const double p = engine::LabelProbability(DecodeLabels(r.instance.labels_json), label);
+    found.Add(std::move(r.instance), p, std::move(r.position));
   }
+  int chosen = engine::ChooseWhereCandidate(found.scored);
+  std::string label_source;
+  if (chosen >= 0) {
+    label_source = found.instances[static_cast<std::size_t>(chosen)].label_locked ? "operator" : "dialog";
+  } else {
+    found = store_.Read([&](storage::Connection& c) { return ClassifiedCandidates(c, map, label, at); });
+    chosen = engine::ChooseWhereCandidate(found.scored);
+    label_source = "classifier";
+  }
+  if (chosen < 0) throw Error(ErrorCode::kNotFound, "nothing labelled '" + label + "' is known" + (at_ns ? " at that time" : ""), "label");
+  const auto k = static_cast<std::size_t>(chosen);
+  const storage::InstanceRecord& best = found.instances[k];
+  const storage::HistoryRecord& h = *found.positions[k];
+  WhereAnswer out;
+  std::optional<engine::PositionOrigin> origin;
+  engine::grounding::Viewpoint viewer;  // for plain geometry: the camera that saw the object last (else the origin)
+  if (h.event_id || best.last_scene_id) {
+    store_.Read([&](storage::Connection& c) { ReadProvenance(c, map, best, h, out, origin, viewer); });
+  }
+  out.label = label;
+  out.instance_id = best.id;
+  out.present = h.present;
+  out.position_m = Vec(h.position);
+  out.seen_ns = h.stamp_ns;
+  out.how = engine::HowKnown(origin);
+  out.label_probability = found.scored[k].label_probability;
+  out.label_source = label_source;
+  out.confidence = engine::WhereConfidence(out.label_probability, out.how);
+  out.at_ns = at_ns;
+  out.placement = GraphPlacement(map, out.position_m, inputs.newest_graph_id);
+  if (!out.placement && !inputs.furniture.empty()) out.placement = GeometryPlacement(inputs.furniture, out.position_m, viewer);
   const std::string where = out.placement ? out.placement->phrase : engine::MapPositionPhrase(out.position_m);
   out.sentence = engine::WhereSentence(label, where, out.present, at_ns.has_value());
   return out;

@@ -111,6 +111,10 @@ std::vector<LayerInfo> GridService::ListLayers(const std::string& map) {
 }
 
 LayerInfo GridService::GetLayer(const std::string& map, const std::string& layer, bool with_statistics) {
+  if (!with_statistics) {  // the common read in one statement; a miss is explained (which of map and layer) below
+    const auto record = store_.ReadOneStatement([&](storage::Connection& c) { return storage::FindLayer(c, map, layer, false); });
+    if (record) return grid_detail::DescribeLayer(*record);
+  }
   return store_.Read([&](storage::Connection& c) {
     const MapLayers layers(c, map, /*check_map=*/false);
     const storage::LayerRecord record = layers.Require(layer, with_statistics);

@@ -7,6 +7,7 @@
 #include "schema/error.h"
 
 #include "storage/dialect.h"
+#include "storage/furniture_repository.h"
 #include "storage/repositories.h"
 #include "storage/store.h"
 #include "tests/support/pg_scratch.h"
@@ -118,6 +119,75 @@ TEST_P(EventRepositoryTest, HistoryAtATimeAndEventsWithEvidence) {
       EXPECT_FALSE(FindEvent(c, "home", event + 1 + k).has_value());
     });
   }
+}
+
+TEST_P(EventRepositoryTest, WhereInputsInOneStatementAgreeWithTheSeparateQueries) {
+  struct Ids {
+    std::int64_t early, unplaced, table;
+  };
+  const Ids ids = store_->Write([](Connection& c) {
+    const std::int64_t early = InsertInstance(c, Object("home", R"({"keys":1.0})"));
+    AppendHistory(c, {early, 0, 100, true, {1, 2, 3}, std::nullopt});
+    AppendHistory(c, {early, 0, 300, true, {4, 5, 6}, std::nullopt});
+    const std::int64_t unplaced = InsertInstance(c, Object("home", R"({"keys":0.5,"cup":0.5})"));  // no history
+    InstanceRecord gone = Object("home", R"({"keys":1.0})");
+    gone.status = "deleted";
+    InsertInstance(c, gone);
+    InsertInstance(c, Object("home", R"({"wallet":1.0})"));
+    InsertInstance(c, Object("other", R"({"keys":1.0})"));
+    InstanceRecord table = Object("home", R"({"table":1.0})");
+    table.kind = "furniture";
+    table.position[0] = 7.5;
+    table.extent[1] = 1.25;
+    const std::int64_t table_id = InsertInstance(c, table);
+    table.status = "deleted";
+    InsertInstance(c, table);
+    return Ids{early, unplaced, table_id};
+  });
+  const auto read_at = [&](std::int64_t at_ns) {
+    return store_->ReadOneStatement([&](Connection& c) { return ReadWhereInputs(c, "home", "keys", at_ns); });
+  };
+  for (const std::int64_t at_ns : {50, 200, 1000}) {
+    const WhereInputs in = read_at(at_ns);
+    ASSERT_EQ(in.labelled.size(), 2u) << at_ns;  // not the deleted one, not the wallet, not the other map's
+    EXPECT_EQ(in.labelled[0].instance.id, ids.early);
+    EXPECT_EQ(in.labelled[1].instance.id, ids.unplaced);
+    EXPECT_EQ(in.labelled[1].instance.labels_json, R"({"keys":0.5,"cup":0.5})");
+    EXPECT_FALSE(in.labelled[1].position.has_value());
+    // The position at the time is HistoryAt's.
+    const auto expected = store_->Read([&](Connection& c) { return HistoryAt(c, ids.early, at_ns); });
+    ASSERT_EQ(in.labelled[0].position.has_value(), expected.has_value()) << at_ns;
+    if (expected) {
+      EXPECT_EQ(in.labelled[0].position->seq, expected->seq);
+      EXPECT_EQ(in.labelled[0].position->stamp_ns, expected->stamp_ns);
+      EXPECT_EQ(in.labelled[0].position->position[0], expected->position[0]);
+    }
+    ASSERT_EQ(in.furniture.size(), 1u);  // the deleted table is not furniture any more
+    EXPECT_EQ(in.furniture[0].id, ids.table);
+    EXPECT_EQ(in.furniture[0].kind, "furniture");
+    EXPECT_EQ(in.furniture[0].position[0], 7.5);
+    EXPECT_EQ(in.furniture[0].extent[1], 1.25);
+    EXPECT_FALSE(in.newest_graph_id.has_value());
+  }
+  EXPECT_EQ(read_at(50).labelled[0].position, std::nullopt);
+  EXPECT_EQ(read_at(1000).labelled[0].position->position[2], 6.0);
+  // With furniture graphs the newest one's id, as NewestFurnitureGraphId says.
+  store_->Write([](Connection& c) {
+    for (int k = 0; k < 2; ++k) {
+      FurnitureGraphRecord g;
+      g.map_id = "home";
+      g.viewpoint_json = g.params_json = g.knowledge_json = g.graph_json = "{}";
+      InsertFurnitureGraph(c, g);
+    }
+  });
+  const auto newest = store_->Read([](Connection& c) { return NewestFurnitureGraphId(c, "home"); });
+  ASSERT_TRUE(newest.has_value());
+  EXPECT_EQ(read_at(1000).newest_graph_id, newest);
+  // A map without anything: nothing, and no error (the service tells a missing map apart).
+  const WhereInputs none = store_->ReadOneStatement([](Connection& c) { return ReadWhereInputs(c, "nowhere", "keys", 1); });
+  EXPECT_TRUE(none.labelled.empty());
+  EXPECT_TRUE(none.furniture.empty());
+  EXPECT_FALSE(none.newest_graph_id.has_value());
 }
 
 }  // namespace

@@ -252,6 +252,37 @@ TEST_P(StoreEngineTest, FailedWriteRollsBackEverything) {
   EXPECT_FALSE(store.Read([](Connection& c) { return FindMap(c, "m").has_value(); }));
 }
 
+TEST_P(StoreEngineTest, AOneStatementReadBeginsNoTransactionAndRefusesASecondStatement) {
+  Store store(OptionsFor(db_.location()));
+  store.Write([](Connection& c) { InsertMap(c, {"m", "m", 1}); });
+  // A snapshot read is inside a transaction once its first statement ran; a one-statement read never is.
+  EXPECT_TRUE(store.Read([](Connection& c) {
+    FindMap(c, "m");
+    return c.InTransaction();
+  }));
+  EXPECT_FALSE(store.ReadOneStatement([](Connection& c) {
+    EXPECT_TRUE(FindMap(c, "m").has_value());
+    return c.InTransaction();
+  }));
+  // A second statement is a programming error, refused before it runs; the connection stays usable.
+  try {
+    store.ReadOneStatement([](Connection& c) {
+      FindMap(c, "m");
+      FindMap(c, "n");
+    });
+    ADD_FAILURE() << "a second statement ran";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInternal);
+    EXPECT_NE(std::string(e.what()).find("one-statement read"), std::string::npos) << e.what();
+  }
+  for (int k = 0; k < 4; ++k) {  // every reader of the pool: none kept the limit
+    EXPECT_EQ(store.Read([](Connection& c) { return FindMap(c, "m").has_value() && !FindMap(c, "n").has_value(); }), true);
+  }
+  // It reads what was committed last.
+  store.Write([](Connection& c) { InsertMap(c, {"n", "n", 2}); });
+  EXPECT_TRUE(store.ReadOneStatement([](Connection& c) { return FindMap(c, "n").has_value(); }));
+}
+
 TEST_P(StoreEngineTest, ConstraintViolationsAreConflictsExceptChecksWhichAreBugs) {
   Store store(OptionsFor(db_.location()));
   const auto code_of = [&](const std::string& sql) {
