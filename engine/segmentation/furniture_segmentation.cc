@@ -176,42 +176,59 @@ std::vector<std::vector<int>> SplitBridges(const Cloud::Ptr& cloud, std::vector<
   return out;
 }
 
-}  // namespace
-
-const char* PlaneRoleName(PlaneRole role) {
-  switch (role) {
-    case PlaneRole::kFloor: return "floor";
-    case PlaneRole::kCeiling: return "ceiling";
-    case PlaneRole::kWall: return "wall";
-    case PlaneRole::kWallWithOpening: return "wall_with_opening";
-    case PlaneRole::kSurface: return "surface";
-  }
-  return "surface";
-}
-
-SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m, const SegmentationParams& p) {
-  CheckParams(p);
-  SegmentationResult out;
+// The finite points thinned on a voxel grid of voxel_m (input_points and thinned_points of `out` set).
+Cloud::Ptr Thinned(const std::vector<Eigen::Vector3f>& cloud_m, double voxel_m, SegmentationResult& out) {
   Cloud::Ptr input = std::make_shared<Cloud>();
   for (const Eigen::Vector3f& q : cloud_m) {
     if (q.allFinite()) input->push_back(pcl::PointXYZ(q.x(), q.y(), q.z()));
   }
   out.input_points = input->size();
-  if (input->empty()) return out;
   Cloud::Ptr thin = std::make_shared<Cloud>();
+  if (input->empty()) return thin;
   pcl::VoxelGrid<pcl::PointXYZ> grid;
   grid.setInputCloud(input);
-  const float leaf = static_cast<float>(p.voxel_m);
+  const float leaf = static_cast<float>(voxel_m);
   grid.setLeafSize(leaf, leaf, leaf);
   grid.filter(*thin);
-  input.reset();
-  const std::size_t n = thin->size();
-  out.thinned_points = n;
-  const double allowed_behind = p.max_behind_fraction * static_cast<double>(n);
+  out.thinned_points = thin->size();
+  return thin;
+}
 
-  // 1. Planes, one after another, on what the earlier planes left.
+// A fitted plane's role from the points on either side of it: a horizontal plane with (almost) nothing below is
+// floor, with nothing above ceiling; a vertical one with nothing behind is a wall, and a wide and tall one with
+// points behind a wall with an opening; anything else a surface. Orients the normal away from the empty side.
+void AssignRole(const Cloud::Ptr& thin, const std::vector<int>& inliers, const SegmentationParams& p, FittedPlane& plane) {
+  const double allowed_behind = p.max_behind_fraction * static_cast<double>(thin->size());
+  const double cos_tol = std::cos(p.axis_tolerance_rad), sin_tol = std::sin(p.axis_tolerance_rad);
+  const double nz = plane.coefficients[2];
+  std::size_t pos = 0, neg = 0;
+  for (const pcl::PointXYZ& q : *thin) {
+    const double s = Signed(plane.coefficients, q);
+    if (s > p.behind_margin_m) ++pos;
+    else if (s < -p.behind_margin_m) ++neg;
+  }
+  if (std::abs(nz) >= cos_tol) {  // horizontal: orient the normal up
+    if (nz < 0) plane.coefficients = -plane.coefficients, std::swap(pos, neg);
+    if (static_cast<double>(neg) <= allowed_behind) plane.role = PlaneRole::kFloor, plane.behind = neg;
+    else if (static_cast<double>(pos) <= allowed_behind) plane.role = PlaneRole::kCeiling, plane.behind = pos, plane.coefficients = -plane.coefficients;
+  } else if (std::abs(nz) <= sin_tol) {  // vertical: the normal points to the side with more points
+    if (neg > pos) plane.coefficients = -plane.coefficients, std::swap(pos, neg);
+    plane.behind = neg;
+    if (static_cast<double>(neg) <= allowed_behind) {
+      plane.role = PlaneRole::kWall;
+    } else {
+      const auto [width, height] = VerticalSpan(thin, inliers, plane.coefficients.head<3>(), 3.0 * p.voxel_m);
+      if (width >= p.wall_min_width_m && height >= p.wall_min_height_m) plane.role = PlaneRole::kWallWithOpening;
+    }
+  }
+}
+
+// Step 1: planes, one after another, on what the earlier planes left (out.planes, out.floor_z_m). Answers, for each
+// thinned point, the plane that took it (-1: none).
+std::vector<int> FitPlanes(const Cloud::Ptr& thin, const SegmentationParams& p, SegmentationResult& out) {
+  const std::size_t n = thin->size();
   std::vector<char> in_plane(n, 0);  // taken by an earlier plane (not offered to RANSAC again)
-  std::vector<int> plane_of(n, -1);  // which plane took it
+  std::vector<int> plane_of(n, -1);
   std::vector<int> offered(n);
   for (std::size_t i = 0; i < n; ++i) offered[i] = static_cast<int>(i);
   pcl::SACSegmentation<pcl::PointXYZ> sac;
@@ -221,10 +238,8 @@ SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m,
   sac.setMaxIterations(p.plane_iterations);
   sac.setOptimizeCoefficients(true);
   sac.setInputCloud(thin);
-  const double cos_tol = std::cos(p.axis_tolerance_rad), sin_tol = std::sin(p.axis_tolerance_rad);
   for (int k = 0; k < p.max_planes && offered.size() >= p.min_plane_points; ++k) {
-    pcl::IndicesPtr indices = std::make_shared<std::vector<int>>(offered);
-    sac.setIndices(indices);
+    sac.setIndices(std::make_shared<std::vector<int>>(offered));
     pcl::PointIndices inliers;
     pcl::ModelCoefficients model;
     sac.segment(inliers, model);
@@ -241,30 +256,7 @@ SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m,
       if (!in_plane[static_cast<std::size_t>(i)]) rest.push_back(i);
     }
     offered.swap(rest);
-    const double nz = plane.coefficients[2];
-    std::size_t pos = 0, neg = 0;
-    for (const pcl::PointXYZ& q : *thin) {
-      const double s = Signed(plane.coefficients, q);
-      if (s > p.behind_margin_m) ++pos;
-      else if (s < -p.behind_margin_m) ++neg;
-    }
-    if (std::abs(nz) >= cos_tol) {  // horizontal: orient the normal up
-      if (nz < 0) plane.coefficients = -plane.coefficients, std::swap(pos, neg);
-      if (static_cast<double>(neg) <= allowed_behind) plane.role = PlaneRole::kFloor, plane.behind = neg;
-      else if (static_cast<double>(pos) <= allowed_behind) plane.role = PlaneRole::kCeiling, plane.behind = pos, plane.coefficients = -plane.coefficients;
-    } else if (std::abs(nz) <= sin_tol) {  // vertical: the normal points to the side with more points
-      if (neg > pos) plane.coefficients = -plane.coefficients, std::swap(pos, neg);
-      plane.behind = neg;
-      if (static_cast<double>(neg) <= allowed_behind) {
-        plane.role = PlaneRole::kWall;
-      } else {
-        const auto [width, height] = VerticalSpan(thin, inliers.indices, plane.coefficients.head<3>(), 3.0 * p.voxel_m);
-        if (width >= p.wall_min_width_m && height >= p.wall_min_height_m) plane.role = PlaneRole::kWallWithOpening;
-      }
-    }
-    if (plane.role == PlaneRole::kSurface) {
-      for (int i : inliers.indices) in_plane[static_cast<std::size_t>(i)] = 2;  // stays for clustering
-    }
+    AssignRole(thin, inliers.indices, p, plane);
     out.planes.push_back(plane);
   }
   // A second horizontal plane with nothing below it (the floor seen in two patches) is floor as well; the floor is
@@ -272,24 +264,32 @@ SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m,
   for (const FittedPlane& plane : out.planes) {
     if (plane.role == PlaneRole::kFloor && (!out.floor_z_m || -plane.coefficients[3] < *out.floor_z_m)) out.floor_z_m = -plane.coefficients[3];
   }
+  return plane_of;
+}
 
-  // Where the floor was seen, in cells of kFloorCellM: a piece may extend back to a wall only over floor nobody saw.
-  std::unordered_set<std::int64_t> floor_seen;
-  const auto cell_key = [](double x, double y) {
-    return (static_cast<std::int64_t>(std::floor(x / kFloorCellM)) << 32) ^ (static_cast<std::int64_t>(std::floor(y / kFloorCellM)) & 0xffffffff);
-  };
-  for (std::size_t i = 0; i < n; ++i) {
-    if (plane_of[i] >= 0 && out.planes[static_cast<std::size_t>(plane_of[i])].role == PlaneRole::kFloor) {
-      floor_seen.insert(cell_key((*thin)[i].x, (*thin)[i].y));
+std::int64_t FloorCellKey(double x_m, double y_m) {
+  return (static_cast<std::int64_t>(std::floor(x_m / kFloorCellM)) << 32) ^
+         (static_cast<std::int64_t>(std::floor(y_m / kFloorCellM)) & 0xffffffff);
+}
+
+// Where the floor was seen, in cells of kFloorCellM: a piece may extend back to a wall only over floor nobody saw.
+std::unordered_set<std::int64_t> FloorSeen(const Cloud& thin, const std::vector<int>& plane_of, const std::vector<FittedPlane>& planes) {
+  std::unordered_set<std::int64_t> seen;
+  for (std::size_t i = 0; i < thin.size(); ++i) {
+    if (plane_of[i] >= 0 && planes[static_cast<std::size_t>(plane_of[i])].role == PlaneRole::kFloor) {
+      seen.insert(FloorCellKey(thin[i].x, thin[i].y));
     }
   }
+  return seen;
+}
 
-  // 2. Remove the bounding planes with their band (and anything below the floor, above a ceiling).
+// Step 2: the bounding planes removed with their band (and anything below the floor, above a ceiling), then the
+// radius outlier removal.
+Cloud::Ptr WithoutBoundingPlanes(const Cloud& thin, const std::vector<FittedPlane>& planes, const SegmentationParams& p) {
   Cloud::Ptr remaining = std::make_shared<Cloud>();
-  for (std::size_t i = 0; i < n; ++i) {
-    const pcl::PointXYZ& q = (*thin)[i];
+  for (const pcl::PointXYZ& q : thin) {
     bool drop = false;
-    for (const FittedPlane& plane : out.planes) {
+    for (const FittedPlane& plane : planes) {
       if (plane.role == PlaneRole::kSurface) continue;
       const double s = Signed(plane.coefficients, q);
       // A wall with an opening keeps what lies behind it (another room); the other bounding planes have nothing
@@ -308,10 +308,12 @@ SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m,
     ror.filter(*kept);
     remaining = kept;
   }
-  out.remaining_points = remaining->size();
-  if (remaining->empty()) return out;
+  return remaining;
+}
 
-  // 3. Euclidean clusters.
+// Step 3: Euclidean clusters of min_cluster_points (smaller ones counted), cut at bridges, each marked as resting
+// on the floor or touching a wall.
+std::vector<Cluster> ClusterPieces(const Cloud::Ptr& remaining, const SegmentationParams& p, SegmentationResult& out) {
   pcl::search::KdTree<pcl::PointXYZ>::Ptr tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>();
   tree->setInputCloud(remaining);
   pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
@@ -322,7 +324,6 @@ SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m,
   ec.setInputCloud(remaining);
   std::vector<pcl::PointIndices> found;
   ec.extract(found);
-  std::vector<Cluster> clusters;
   std::vector<std::vector<int>> pieces;
   for (pcl::PointIndices& f : found) {
     if (f.indices.size() < p.min_cluster_points) {
@@ -333,6 +334,7 @@ SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m,
     out.bridges_cut += parts.size() > 1;
     for (auto& part : parts) pieces.push_back(std::move(part));
   }
+  std::vector<Cluster> clusters;
   for (std::vector<int>& piece : pieces) {
     Cluster c;
     c.indices = std::move(piece);
@@ -351,14 +353,17 @@ SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m,
     }
     clusters.push_back(std::move(c));
   }
+  return clusters;
+}
 
-  // 4. Flying clusters into the nearest grounded cluster below them (lowest flying first).
+// Step 4: flying clusters into the nearest grounded cluster below them (lowest flying first); those with none below
+// are dropped (counted).
+void MergeFlying(const Cloud& remaining, double reach_m, std::vector<Cluster>& clusters, SegmentationResult& out) {
   std::vector<std::size_t> flying;
   for (std::size_t i = 0; i < clusters.size(); ++i) {
     if (!clusters[i].floor && !clusters[i].wall) flying.push_back(i);
   }
   std::sort(flying.begin(), flying.end(), [&](std::size_t a, std::size_t b) { return clusters[a].lo.z() < clusters[b].lo.z(); });
-  const double reach = p.cluster_tolerance_m;
   for (std::size_t f : flying) {
     Cluster& fly = clusters[f];
     int best = -1;
@@ -366,8 +371,8 @@ SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m,
     for (std::size_t g = 0; g < clusters.size(); ++g) {
       const Cluster& ground = clusters[g];
       if (g == f || !ground.alive || !(ground.floor || ground.wall)) continue;
-      const bool overlaps = ground.lo.x() <= fly.hi.x() + reach && ground.hi.x() >= fly.lo.x() - reach &&
-                            ground.lo.y() <= fly.hi.y() + reach && ground.hi.y() >= fly.lo.y() - reach;
+      const bool overlaps = ground.lo.x() <= fly.hi.x() + reach_m && ground.hi.x() >= fly.lo.x() - reach_m &&
+                            ground.lo.y() <= fly.hi.y() + reach_m && ground.hi.y() >= fly.lo.y() - reach_m;
       if (!overlaps || ground.lo.z() >= fly.lo.z()) continue;  // not below it
       const double d = (ground.centroid.head<2>() - fly.centroid.head<2>()).norm() + std::max(0.0, fly.lo.z() - ground.hi.z());
       if (d < best_d) best_d = d, best = static_cast<int>(g);
@@ -380,68 +385,100 @@ SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m,
     Cluster& into = clusters[static_cast<std::size_t>(best)];
     into.indices.insert(into.indices.end(), fly.indices.begin(), fly.indices.end());
     into.merged += 1 + fly.merged;
-    Bounds(*remaining, into);
+    Bounds(remaining, into);
   }
+}
 
-  // 5. Parts of one piece that occlusion split apart side by side (a table's far leg, a corner sofa's arm): a
-  // cluster whose footprint lies for the most part (part_overlap) inside a larger cluster's joins it.
-  if (p.part_overlap > 0.0) {
-    std::vector<std::size_t> order;
-    for (std::size_t i = 0; i < clusters.size(); ++i) {
-      if (clusters[i].alive) order.push_back(i);
+// Step 5: parts of one piece that occlusion split apart side by side (a table's far leg, a corner sofa's arm): a
+// cluster whose footprint lies for the most part (part_overlap) inside a larger cluster's joins it.
+void JoinParts(const Cloud& remaining, double part_overlap, std::vector<Cluster>& clusters) {
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < clusters.size(); ++i) {
+    if (clusters[i].alive) order.push_back(i);
+  }
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return clusters[a].indices.size() < clusters[b].indices.size(); });
+  const auto footprint = [&](const Cluster& c) {
+    std::vector<Eigen::Vector3f> pts;
+    pts.reserve(c.indices.size());
+    for (int i : c.indices) pts.push_back(remaining[static_cast<std::size_t>(i)].getVector3fMap());
+    return FootprintOf(pts);
+  };
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    Cluster& part = clusters[order[k]];
+    const Footprint fp = footprint(part);
+    for (std::size_t m = order.size(); m-- > k + 1;) {
+      Cluster& whole = clusters[order[m]];
+      if (!whole.alive || whole.indices.size() <= part.indices.size()) continue;
+      if (FootprintOverlap(fp, footprint(whole)) < part_overlap) continue;
+      whole.indices.insert(whole.indices.end(), part.indices.begin(), part.indices.end());
+      whole.merged += 1 + part.merged;
+      whole.floor |= part.floor;
+      whole.wall |= part.wall;
+      Bounds(remaining, whole);
+      part.alive = false;
+      break;
     }
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return clusters[a].indices.size() < clusters[b].indices.size(); });
-    const auto footprint = [&](const Cluster& c) {
-      std::vector<Eigen::Vector3f> pts;
-      pts.reserve(c.indices.size());
-      for (int i : c.indices) pts.push_back((*remaining)[static_cast<std::size_t>(i)].getVector3fMap());
-      return FootprintOf(pts);
-    };
-    for (std::size_t k = 0; k < order.size(); ++k) {
-      Cluster& part = clusters[order[k]];
-      const Footprint fp = footprint(part);
-      for (std::size_t m = order.size(); m-- > k + 1;) {
-        Cluster& whole = clusters[order[m]];
-        if (!whole.alive || whole.indices.size() <= part.indices.size()) continue;
-        if (FootprintOverlap(fp, footprint(whole)) < p.part_overlap) continue;
-        whole.indices.insert(whole.indices.end(), part.indices.begin(), part.indices.end());
-        whole.merged += 1 + part.merged;
-        whole.floor |= part.floor;
-        whole.wall |= part.wall;
-        Bounds(*remaining, whole);
-        part.alive = false;
-        break;
+  }
+}
+
+// Step 6: a surviving cluster as a segment; its footprint extends back to a wall over floor nobody saw (at most a
+// fifth of the strip's floor cells seen).
+FurnitureSegment ToSegment(const Cluster& c, const Cloud& remaining, const std::vector<FittedPlane>& planes,
+                           const std::unordered_set<std::int64_t>& floor_seen, const SegmentationParams& p) {
+  FurnitureSegment s;
+  s.points_m.reserve(c.indices.size());
+  for (int i : c.indices) s.points_m.push_back(remaining[static_cast<std::size_t>(i)].getVector3fMap());
+  s.centroid_m = c.centroid;
+  s.footprint = FootprintOf(s.points_m);
+  for (const FittedPlane& plane : planes) {
+    if (plane.role != PlaneRole::kWall && plane.role != PlaneRole::kWallWithOpening) continue;
+    const Eigen::Vector2d wall_n = plane.coefficients.head<2>();
+    const Footprint grown = ExtendToWall(s.footprint, wall_n / wall_n.norm(), plane.coefficients[3] / wall_n.norm(), p.wall_reach_m, 0.26);
+    int cells = 0, seen = 0;
+    for (double u = -0.5 * grown.extent_m.x(); u <= 0.5 * grown.extent_m.x(); u += kFloorCellM) {
+      for (double v = -0.5 * grown.extent_m.y(); v <= 0.5 * grown.extent_m.y(); v += kFloorCellM) {
+        const Eigen::Vector2d q = grown.centre_m + Eigen::Rotation2Dd(grown.yaw_rad) * Eigen::Vector2d(u, v);
+        if (Inside(s.footprint, q)) continue;
+        ++cells;
+        seen += floor_seen.count(FloorCellKey(q.x(), q.y())) > 0;
       }
     }
+    if (cells > 0 && seen * 5 <= cells) s.footprint = grown;
   }
+  s.touches_floor = c.floor;
+  s.touches_wall = c.wall;
+  s.merged_flying = c.merged;
+  return s;
+}
 
+}  // namespace
+
+const char* PlaneRoleName(PlaneRole role) {
+  switch (role) {
+    case PlaneRole::kFloor: return "floor";
+    case PlaneRole::kCeiling: return "ceiling";
+    case PlaneRole::kWall: return "wall";
+    case PlaneRole::kWallWithOpening: return "wall_with_opening";
+    case PlaneRole::kSurface: return "surface";
+  }
+  return "surface";
+}
+
+SegmentationResult SegmentFurniture(const std::vector<Eigen::Vector3f>& cloud_m, const SegmentationParams& p) {
+  CheckParams(p);
+  SegmentationResult out;
+  const Cloud::Ptr thin = Thinned(cloud_m, p.voxel_m, out);
+  if (thin->empty()) return out;
+  const std::vector<int> plane_of = FitPlanes(thin, p, out);
+  const std::unordered_set<std::int64_t> floor_seen = FloorSeen(*thin, plane_of, out.planes);
+  const Cloud::Ptr remaining = WithoutBoundingPlanes(*thin, out.planes, p);
+  out.remaining_points = remaining->size();
+  if (remaining->empty()) return out;
+  std::vector<Cluster> clusters = ClusterPieces(remaining, p, out);
+  MergeFlying(*remaining, p.cluster_tolerance_m, clusters, out);
+  if (p.part_overlap > 0.0) JoinParts(*remaining, p.part_overlap, clusters);
   for (const Cluster& c : clusters) {
-    if (!c.alive) continue;
-    FurnitureSegment s;
-    s.points_m.reserve(c.indices.size());
-    for (int i : c.indices) s.points_m.push_back((*remaining)[static_cast<std::size_t>(i)].getVector3fMap());
-    s.centroid_m = c.centroid;
-    s.footprint = FootprintOf(s.points_m);
-    for (const FittedPlane& plane : out.planes) {
-      if (plane.role != PlaneRole::kWall && plane.role != PlaneRole::kWallWithOpening) continue;
-      const Eigen::Vector2d wall_n = plane.coefficients.head<2>();
-      const Footprint grown = ExtendToWall(s.footprint, wall_n / wall_n.norm(), plane.coefficients[3] / wall_n.norm(), p.wall_reach_m, 0.26);
-      // The strip between the piece and the wall: hidden when at most a fifth of its floor cells were seen.
-      int cells = 0, seen = 0;
-      for (double u = -0.5 * grown.extent_m.x(); u <= 0.5 * grown.extent_m.x(); u += kFloorCellM) {
-        for (double v = -0.5 * grown.extent_m.y(); v <= 0.5 * grown.extent_m.y(); v += kFloorCellM) {
-          const Eigen::Vector2d q = grown.centre_m + Eigen::Rotation2Dd(grown.yaw_rad) * Eigen::Vector2d(u, v);
-          if (Inside(s.footprint, q)) continue;
-          ++cells;
-          seen += floor_seen.count(cell_key(q.x(), q.y())) > 0;
-        }
-      }
-      if (cells > 0 && seen * 5 <= cells) s.footprint = grown;
-    }
-    s.touches_floor = c.floor;
-    s.touches_wall = c.wall;
-    s.merged_flying = c.merged;
-    out.segments.push_back(std::move(s));
+    if (c.alive) out.segments.push_back(ToSegment(c, *remaining, out.planes, floor_seen, p));
   }
   std::sort(out.segments.begin(), out.segments.end(),
             [](const FurnitureSegment& a, const FurnitureSegment& b) { return a.points_m.size() > b.points_m.size(); });

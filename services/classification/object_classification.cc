@@ -54,9 +54,7 @@ const storage::InstanceRecord& RequireClassifiable(const std::optional<storage::
   return *r;
 }
 
-}  // namespace
-
-InstanceClassificationResult ClassifierService::ClassifyInstance(const ClassifyInstanceRequest& request) {
+void CheckClassifyRequest(const ClassifyInstanceRequest& request) {
   json::CheckId(request.classifier, "classifier");
   if (!(request.keypoint_spacing_m >= 0.005 && request.keypoint_spacing_m <= 0.5)) {
     throw Error(ErrorCode::kInvalidArgument, "keypoint_spacing_m must lie in [0.005, 0.5] m", "keypoint_spacing_m");
@@ -64,11 +62,138 @@ InstanceClassificationResult ClassifierService::ClassifyInstance(const ClassifyI
   if (request.min_points < 10 || request.min_points > 1000000) {
     throw Error(ErrorCode::kInvalidArgument, "min_points must lie in [10, 1000000]", "min_points");
   }
-  struct Inputs {
-    storage::SegmentRecord segment;
-    std::optional<KeyframeNotice> keyframe;
-    std::vector<engine::Codebook> codebooks;  // per classifier feature type
-  };
+}
+
+// What a classification reads: the instance's newest segment, its keyframe (when kept) and the map's codebook of
+// each of the classifier's feature types (checked against the classifier's dimensions).
+struct ClassifyInputs {
+  storage::SegmentRecord segment;
+  std::optional<KeyframeNotice> keyframe;
+  std::vector<engine::Codebook> codebooks;  // per classifier feature type
+};
+
+ClassifyInputs ReadClassifyInputs(storage::Connection& c, const ClassifyInstanceRequest& request, const engine::EsammeModel& model) {
+  RequireMap(c, request.map);
+  RequireClassifiable(storage::FindInstance(c, request.map, request.instance, false), request);
+  ClassifyInputs out;
+  const auto segment = storage::LatestInstanceSegment(c, request.map, request.instance);
+  if (!segment) {
+    throw Error(ErrorCode::kConflict, "instance " + std::to_string(request.instance) +
+                                          " has no segment to classify (entered by hand, or its segments were forgotten)",
+                "instance");
+  }
+  out.segment = *segment;
+  out.keyframe = LoadKeyframeNotice(c, request.map, segment->keyframe_id);
+  for (std::size_t t = 0; t < model.feature_types.size(); ++t) {
+    const std::string& type = model.feature_types[t];
+    const auto book = storage::GetCodebook(c, request.map, type);
+    if (!book) throw Error(ErrorCode::kUnprocessable, "map '" + request.map + "' has no codebook of '" + type + "'", "classifier");
+    if (book->words != model.feature_dims[t]) {
+      throw Error(ErrorCode::kUnprocessable, "the codebook of '" + type + "' has " + std::to_string(book->words) +
+                                                 " words, the classifier expects " + std::to_string(model.feature_dims[t]),
+                  "classifier");
+    }
+    out.codebooks.push_back({book->words, book->dims, book->centres});
+  }
+  return out;
+}
+
+// The segment's points in the map frame and where the sensor stood: the keyframe's depth inside the segment's box
+// when the keyframe is kept, else the segment's stored sample seen from 1 m above its centroid.
+struct SegmentCloud {
+  std::vector<Eigen::Vector3f> points_m;
+  Eigen::Vector3d sensor_m = Eigen::Vector3d::Zero();
+};
+
+SegmentCloud CloudOfSegment(const ClassifyInputs& in) {
+  SegmentCloud out;
+  if (in.keyframe) {
+    const Eigen::Vector3d min_m(in.segment.min[0], in.segment.min[1], in.segment.min[2]);
+    const Eigen::Vector3d max_m(in.segment.max[0], in.segment.max[1], in.segment.max[2]);
+    const auto cloud_m = engine::BackProjectRaw(in.keyframe->depth_mm, 1000.0, in.keyframe->K, in.keyframe->X_MapCamera);
+    out.points_m = engine::PointsInBox(cloud_m, min_m, max_m, kSegmentMarginM);
+    out.sensor_m = in.keyframe->X_MapCamera.translation();
+  } else {
+    out.points_m = SamplePoints(in.segment.sample);
+    out.sensor_m = Eigen::Vector3d(in.segment.centroid[0], in.segment.centroid[1], in.segment.centroid[2] + 1.0);
+  }
+  return out;
+}
+
+// Features of the classifier's types, their bags of words (result.types) and the prediction (result.label,
+// result.distribution); answers the distribution by class name.
+engine::LabelWeights PredictClasses(const engine::EsammeModel& model, const ClassifyInputs& in, const SegmentCloud& cloud,
+                                    const engine::ExtractionParams& params, InstanceClassificationResult& result) {
+  const auto extracted = engine::ExtractFeatures(cloud.points_m, cloud.sensor_m, model.feature_types, params);
+  std::vector<engine::FeatureMatrix> features;
+  for (std::size_t t = 0; t < model.feature_types.size(); ++t) {
+    const std::string& type = model.feature_types[t];
+    const engine::Codebook& book = in.codebooks[t];
+    engine::TypedBag coded = engine::BagOfWordsOfType(extracted, type, book);
+    InstanceClassificationResult::PerType per;
+    per.type = type;
+    per.features = coded.coded;
+    per.bag = std::move(coded.bag);
+    engine::FeatureMatrix m(1, book.words);
+    for (int w = 0; w < book.words; ++w) m(0, w) = static_cast<float>(per.bag[static_cast<std::size_t>(w)]);
+    features.push_back(std::move(m));
+    result.types.push_back(std::move(per));
+  }
+  const auto total = std::accumulate(result.types.begin(), result.types.end(), 0,
+                                     [](int sum, const auto& p) { return sum + p.features; });
+  if (total == 0) {
+    throw Error(ErrorCode::kUnprocessable, "no feature of the classifier's types could be extracted from the segment's " +
+                                               std::to_string(cloud.points_m.size()) + " points", "instance");
+  }
+  const engine::EsammePrediction prediction = engine::PredictEsamme(model, features).front();
+  result.label = model.class_names[static_cast<std::size_t>(prediction.label)];
+  engine::LabelWeights classified;
+  for (std::size_t k = 0; k < prediction.distribution.size(); ++k) {
+    result.distribution.emplace_back(model.class_names[k], prediction.distribution[k]);
+    classified[model.class_names[k]] = prediction.distribution[k];
+  }
+  return classified;
+}
+
+// Stores the classification (one row per instance) and what it means for the instance's labels (result.applied,
+// label_source, labels); a labelled event when the class the instance shows (a classifier's label, never
+// 'unknown') differs from the one the previous classification showed.
+void StoreClassification(storage::Connection& c, const ClassifyInstanceRequest& request, const ClassifyInputs& in,
+                         const engine::LabelWeights& classified, std::int64_t stamp_ns, InstanceClassificationResult& result) {
+  RequireMap(c, request.map);
+  const auto found = storage::FindInstance(c, request.map, request.instance, false);
+  const storage::InstanceRecord& r = RequireClassifiable(found, request);
+  storage::InstanceClassificationRecord row;
+  row.instance_id = request.instance;
+  row.map_id = request.map;
+  row.classifier = request.classifier;
+  row.label = result.label;
+  row.distribution_json = nlohmann::json(classified).dump();
+  row.segment_id = in.segment.id;
+  row.keyframe_id = result.keyframe;
+  row.stamp_ns = stamp_ns;
+  const auto before = storage::FindInstanceClassification(c, request.map, request.instance);
+  storage::UpsertInstanceClassification(c, row);
+  const engine::LabelWeights named = nlohmann::json::parse(r.labels_json).get<engine::LabelWeights>();
+  const engine::EffectiveLabels effective = engine::EffectiveObjectLabels(named, r.label_locked, classified);
+  result.applied = engine::ClassifierLabelApplies(named, r.label_locked);
+  result.label_source = engine::LabelSourceName(effective.source);
+  result.labels = effective.distribution;
+  const std::optional<std::string> shown = engine::ShownClassifierClass(effective);
+  const std::optional<std::string> shown_before =
+      before ? engine::ShownClassifierClass(engine::EffectiveObjectLabels(
+                   named, r.label_locked, nlohmann::json::parse(before->distribution_json).get<engine::LabelWeights>()))
+             : std::nullopt;
+  if (shown && shown != shown_before) {
+    result.event = InsertLabelledEvent(c, request.map, request.instance, *shown, "classifier", stamp_ns,
+                                       engine::ClassifiedExplanation(request.classifier), effective.distribution);
+  }
+}
+
+}  // namespace
+
+InstanceClassificationResult ClassifierService::ClassifyInstance(const ClassifyInstanceRequest& request) {
+  CheckClassifyRequest(request);
   // Map and instance first (404 in path order), then the classifier and what its types need in the map.
   store_.Read([&](storage::Connection& c) {
     RequireMap(c, request.map);
@@ -90,118 +215,24 @@ InstanceClassificationResult ClassifierService::ClassifyInstance(const ClassifyI
                   "classifier");
     }
   }
-  const Inputs in = store_.Read([&](storage::Connection& c) {
-    RequireMap(c, request.map);
-    RequireClassifiable(storage::FindInstance(c, request.map, request.instance, false), request);
-    Inputs out;
-    const auto segment = storage::LatestInstanceSegment(c, request.map, request.instance);
-    if (!segment) {
-      throw Error(ErrorCode::kConflict, "instance " + std::to_string(request.instance) +
-                                            " has no segment to classify (entered by hand, or its segments were forgotten)",
-                  "instance");
-    }
-    out.segment = *segment;
-    out.keyframe = LoadKeyframeNotice(c, request.map, segment->keyframe_id);
-    for (std::size_t t = 0; t < model->feature_types.size(); ++t) {
-      const std::string& type = model->feature_types[t];
-      const auto book = storage::GetCodebook(c, request.map, type);
-      if (!book) throw Error(ErrorCode::kUnprocessable, "map '" + request.map + "' has no codebook of '" + type + "'", "classifier");
-      if (book->words != model->feature_dims[t]) {
-        throw Error(ErrorCode::kUnprocessable, "the codebook of '" + type + "' has " + std::to_string(book->words) +
-                                                   " words, the classifier expects " + std::to_string(model->feature_dims[t]),
-                    "classifier");
-      }
-      out.codebooks.push_back({book->words, book->dims, book->centres});
-    }
-    return out;
-  });
-
+  const ClassifyInputs in = store_.Read([&](storage::Connection& c) { return ReadClassifyInputs(c, request, *model); });
   // The heavy part outside any transaction: the segment's points, the features, the bags of words, the prediction.
-  const Eigen::Vector3d min_m(in.segment.min[0], in.segment.min[1], in.segment.min[2]);
-  const Eigen::Vector3d max_m(in.segment.max[0], in.segment.max[1], in.segment.max[2]);
-  std::vector<Eigen::Vector3f> points;
-  Eigen::Vector3d sensor_m = Eigen::Vector3d::Zero();
-  if (in.keyframe) {
-    const auto cloud_m = engine::BackProjectRaw(in.keyframe->depth_mm, 1000.0, in.keyframe->K, in.keyframe->X_MapCamera);
-    points = engine::PointsInBox(cloud_m, min_m, max_m, kSegmentMarginM);
-    sensor_m = in.keyframe->X_MapCamera.translation();
-  } else {
-    points = SamplePoints(in.segment.sample);
-    sensor_m = Eigen::Vector3d(in.segment.centroid[0], in.segment.centroid[1], in.segment.centroid[2] + 1.0);
-  }
-  if (points.size() < static_cast<std::size_t>(request.min_points)) {
-    throw Error(ErrorCode::kUnprocessable, "the instance's segment has " + std::to_string(points.size()) + " points; at least " +
-                                               std::to_string(request.min_points) + " are needed (min_points)", "instance");
+  const SegmentCloud cloud = CloudOfSegment(in);
+  if (cloud.points_m.size() < static_cast<std::size_t>(request.min_points)) {
+    throw Error(ErrorCode::kUnprocessable, "the instance's segment has " + std::to_string(cloud.points_m.size()) +
+                                               " points; at least " + std::to_string(request.min_points) +
+                                               " are needed (min_points)", "instance");
   }
   engine::ExtractionParams params = features_.settings().extraction;
   params.keypoint_voxel_m = request.keypoint_spacing_m;
-  const auto extracted = engine::ExtractFeatures(points, sensor_m, model->feature_types, params);
   InstanceClassificationResult result;
-  std::vector<engine::FeatureMatrix> features;
-  for (std::size_t t = 0; t < model->feature_types.size(); ++t) {
-    const std::string& type = model->feature_types[t];
-    const engine::Codebook& book = in.codebooks[t];
-    engine::TypedBag coded = engine::BagOfWordsOfType(extracted, type, book);
-    InstanceClassificationResult::PerType per;
-    per.type = type;
-    per.features = coded.coded;
-    per.bag = std::move(coded.bag);
-    engine::FeatureMatrix m(1, book.words);
-    for (int w = 0; w < book.words; ++w) m(0, w) = static_cast<float>(per.bag[static_cast<std::size_t>(w)]);
-    features.push_back(std::move(m));
-    result.types.push_back(std::move(per));
-  }
-  const auto total = std::accumulate(result.types.begin(), result.types.end(), 0,
-                                     [](int sum, const auto& p) { return sum + p.features; });
-  if (total == 0) {
-    throw Error(ErrorCode::kUnprocessable, "no feature of the classifier's types could be extracted from the segment's " +
-                                               std::to_string(points.size()) + " points", "instance");
-  }
-  const engine::EsammePrediction prediction = engine::PredictEsamme(*model, features).front();
+  const engine::LabelWeights classified = PredictClasses(*model, in, cloud, params, result);
   result.instance = request.instance;
   result.classifier = request.classifier;
-  result.label = model->class_names[static_cast<std::size_t>(prediction.label)];
-  engine::LabelWeights classified;
-  for (std::size_t k = 0; k < prediction.distribution.size(); ++k) {
-    result.distribution.emplace_back(model->class_names[k], prediction.distribution[k]);
-    classified[model->class_names[k]] = prediction.distribution[k];
-  }
   result.segment = in.segment.id;
   if (in.keyframe) result.keyframe = in.segment.keyframe_id;
-  result.points = static_cast<int>(points.size());
-
-  store_.Write([&](storage::Connection& c) {
-    RequireMap(c, request.map);
-    const auto found = storage::FindInstance(c, request.map, request.instance, false);
-    const storage::InstanceRecord& r = RequireClassifiable(found, request);
-    storage::InstanceClassificationRecord row;
-    row.instance_id = request.instance;
-    row.map_id = request.map;
-    row.classifier = request.classifier;
-    row.label = result.label;
-    row.distribution_json = nlohmann::json(classified).dump();
-    row.segment_id = in.segment.id;
-    row.keyframe_id = result.keyframe;
-    row.stamp_ns = clock_.NowNs();
-    const auto before = storage::FindInstanceClassification(c, request.map, request.instance);
-    storage::UpsertInstanceClassification(c, row);
-    const engine::LabelWeights named = nlohmann::json::parse(r.labels_json).get<engine::LabelWeights>();
-    const engine::EffectiveLabels effective = engine::EffectiveObjectLabels(named, r.label_locked, classified);
-    result.applied = engine::ClassifierLabelApplies(named, r.label_locked);
-    result.label_source = engine::LabelSourceName(effective.source);
-    result.labels = effective.distribution;
-    // An event when the class the instance shows (a classifier's label, never 'unknown') differs from the one the
-    // previous classification showed.
-    const std::optional<std::string> shown = engine::ShownClassifierClass(effective);
-    const std::optional<std::string> shown_before =
-        before ? engine::ShownClassifierClass(engine::EffectiveObjectLabels(
-                     named, r.label_locked, nlohmann::json::parse(before->distribution_json).get<engine::LabelWeights>()))
-               : std::nullopt;
-    if (shown && shown != shown_before) {
-      result.event = InsertLabelledEvent(c, request.map, request.instance, *shown, "classifier", row.stamp_ns,
-                                         engine::ClassifiedExplanation(request.classifier), effective.distribution);
-    }
-  });
+  result.points = static_cast<int>(cloud.points_m.size());
+  store_.Write([&](storage::Connection& c) { StoreClassification(c, request, in, classified, clock_.NowNs(), result); });
   return result;
 }
 

@@ -201,76 +201,81 @@ seg::SegmentationParams AtResolution(seg::SegmentationParams p, double resolutio
   return p;
 }
 
-}  // namespace
-
-SegmentationOutcome RunSegmentation(const FurnitureSegmentationService::Core& core, const std::string& map,
-                                    const SegmentationRequest& r, std::optional<std::int64_t> job_id,
-                                    const std::vector<Eigen::Vector3f>* client_cloud) {
-  storage::Store& store_ = core.store;
-  const std::vector<std::string>& category_ids_ = core.category_ids;
-  const Clock& clock_ = core.clock;
-  const SegmentationLinks& links = core.links;
-  CheckSegmentationRequest(r);
+// The shape model a segmentation classifies with: the one named, else the newest stored when asked for, else none
+// (by shape alone; also when the newest was deleted meanwhile). Sets `name` to the model's name or nothing.
+std::shared_ptr<const engine::ShapeModel> ShapeModelOf(const SegmentationLinks& links, const SegmentationRequest& r,
+                                                       std::optional<std::string>& name) {
   std::shared_ptr<const engine::ShapeModel> model;
-  std::optional<std::string> model_name = r.shape_model;
-  if (!model_name && r.use_stored_shape_model && links.newest_shape_model) model_name = links.newest_shape_model();
-  if (model_name) {
-    if (links.shape_model) model = links.shape_model(*model_name);
+  name = r.shape_model;
+  if (!name && r.use_stored_shape_model && links.newest_shape_model) name = links.newest_shape_model();
+  if (name) {
+    if (links.shape_model) model = links.shape_model(*name);
     if (!model && r.shape_model) throw Error(ErrorCode::kNotFound, "shape model '" + *r.shape_model + "' does not exist", "shape_model");
-    if (!model) model_name.reset();  // the newest was deleted meanwhile: by shape alone
+    if (!model) name.reset();
   }
-  SegmentationOutcome out;
-  out.shape_model = model_name;
-  seg::SegmentationParams params = r.params;
-  // 1. The room cloud.
+  return model;
+}
+
+// The room cloud of keyframes and the cameras that took them (empty for the other sources). Checks the map.
+struct RoomCloud {
   std::vector<seg::KeyframeView> cameras;
-  std::vector<Eigen::Vector3f> cloud;
-  store_.Read([&](storage::Connection& c) {
-    RequireMap(c, map);
-    if (r.source != SegmentationSource::kKeyframes) return 0;
-    const std::vector<std::int64_t> ids = r.keyframes.empty() ? storage::NewestKeyframeIds(c, map, r.max_keyframes) : r.keyframes;
-    for (std::size_t i = 0; i < ids.size(); ++i) {
-      std::optional<KeyframeNotice> kf = LoadKeyframeNotice(c, map, ids[i]);
-      if (!kf) throw Error(ErrorCode::kNotFound, "keyframe " + std::to_string(ids[i]) + " does not exist in map '" + map + "'", "keyframes[" + std::to_string(i) + "]");
-      // By default only the keyframes that open and close an observation: between them a person may stand in
-      // the view long enough to enter the static background.
-      if (r.keyframes.empty() && kf->kind != "begin" && kf->kind != "end") continue;
-      // The keyframe's own depth, not its model's static background: a person who stood still in the view may
-      // linger in the background after leaving.
-      std::vector<std::uint16_t> depth = kf->depth_mm;
-      const double max_mm = r.max_range_m * 1000.0;
-      for (auto& d : depth) {
-        if (d > max_mm) d = 0;
-      }
-      const auto points = engine::BackProjectRaw(depth, 1000.0, kf->K, kf->X_MapCamera);
-      cloud.insert(cloud.end(), points.begin(), points.end());
-      cameras.push_back({kf->keyframe_id, kf->K, kf->X_MapCamera, std::move(depth)});
+  std::vector<Eigen::Vector3f> points_m;
+};
+
+RoomCloud ReadKeyframeCloud(storage::Connection& c, const std::string& map, const SegmentationRequest& r) {
+  RequireMap(c, map);
+  RoomCloud out;
+  if (r.source != SegmentationSource::kKeyframes) return out;
+  const std::vector<std::int64_t> ids = r.keyframes.empty() ? storage::NewestKeyframeIds(c, map, r.max_keyframes) : r.keyframes;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    std::optional<KeyframeNotice> kf = LoadKeyframeNotice(c, map, ids[i]);
+    if (!kf) throw Error(ErrorCode::kNotFound, "keyframe " + std::to_string(ids[i]) + " does not exist in map '" + map + "'", "keyframes[" + std::to_string(i) + "]");
+    // By default only the keyframes that open and close an observation: between them a person may stand in
+    // the view long enough to enter the static background.
+    if (r.keyframes.empty() && kf->kind != "begin" && kf->kind != "end") continue;
+    // The keyframe's own depth, not its model's static background: a person who stood still in the view may
+    // linger in the background after leaving.
+    std::vector<std::uint16_t> depth = kf->depth_mm;
+    const double max_mm = r.max_range_m * 1000.0;
+    for (auto& d : depth) {
+      if (d > max_mm) d = 0;
     }
-    return 0;
-  });
+    const auto points = engine::BackProjectRaw(depth, 1000.0, kf->K, kf->X_MapCamera);
+    out.points_m.insert(out.points_m.end(), points.begin(), points.end());
+    out.cameras.push_back({kf->keyframe_id, kf->K, kf->X_MapCamera, std::move(depth)});
+  }
+  return out;
+}
+
+// The room cloud of the request's source into `room` (the OctoMap's occupied voxels, the client's cloud, or the
+// keyframes' read before); out.source and out.octomap_truncated set. Answers the parameters for that cloud (an
+// OctoMap's resolution sets its own).
+seg::SegmentationParams TakeSourceCloud(const SegmentationLinks& links, const std::string& map, const SegmentationRequest& r,
+                                        const std::vector<Eigen::Vector3f>* client_cloud, RoomCloud& room,
+                                        SegmentationOutcome& out) {
   if (r.source == SegmentationSource::kOctomap) {
     out.source = "octomap";
     std::optional<OccupiedCloud> tree = links.octomap ? links.octomap(map) : std::nullopt;
     if (!links.octomap) throw Error(ErrorCode::kUnprocessable, "this server has no OctoMap capability", "source");
     if (!tree) throw Error(ErrorCode::kNotFound, "map '" + map + "' has no OctoMap", "octomap");
     if (tree->points_m.empty()) throw Error(ErrorCode::kUnprocessable, "the OctoMap of map '" + map + "' has no occupied voxel", "octomap");
-    cloud = std::move(tree->points_m);
+    room.points_m = std::move(tree->points_m);
     out.octomap_truncated = tree->truncated;
-    params = AtResolution(params, tree->resolution_m);
-  } else if (r.source == SegmentationSource::kCloud) {
+    return AtResolution(r.params, tree->resolution_m);
+  }
+  if (r.source == SegmentationSource::kCloud) {
     out.source = "cloud";
     if (!client_cloud || client_cloud->empty()) throw Error(ErrorCode::kUnprocessable, "the room cloud is empty", "body");
-    cloud = *client_cloud;
-  } else {
-    out.source = "keyframes";
-    if (cloud.empty()) throw Error(ErrorCode::kUnprocessable, "the room cloud is empty (no keyframe, or no depth within max_range_m)", "keyframes");
+    room.points_m = *client_cloud;
+    return r.params;
   }
+  out.source = "keyframes";
+  if (room.points_m.empty()) throw Error(ErrorCode::kUnprocessable, "the room cloud is empty (no keyframe, or no depth within max_range_m)", "keyframes");
+  return r.params;
+}
 
-  // 2. Segments (outside any transaction).
-  const auto t0 = std::chrono::steady_clock::now();
-  const seg::SegmentationResult result = seg::SegmentFurniture(cloud, params);
+void Summarise(const seg::SegmentationResult& result, SegmentationOutcome& out) {
   out.bridges_cut = result.bridges_cut;
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.input_points = result.input_points;
   out.thinned_points = result.thinned_points;
   out.remaining_points = result.remaining_points;
@@ -278,19 +283,122 @@ SegmentationOutcome RunSegmentation(const FurnitureSegmentationService::Core& co
   out.small_clusters = result.small_clusters;
   out.flying_dropped = result.flying_dropped;
   out.floor_z_m = result.floor_z_m;
-  struct Classified {
-    std::vector<double> p;
-    std::vector<std::int64_t> evidence;
-  };
-  std::vector<Classified> classified;
-  for (const seg::FurnitureSegment& s : result.segments) {
-    classified.push_back({Classify(s, result.floor_z_m, category_ids_, model.get()), seg::SegmentEvidence(s.points_m, cameras, r.max_range_m)});
-  }
-  const std::string classifier = model ? "shape_model:" + *model_name : "geometry";
+}
 
+// A segment's category shares (in the order of the category ids) and the keyframes that saw it.
+struct SegmentClasses {
+  std::vector<double> p;
+  std::vector<std::int64_t> evidence;
+};
+
+// What writing one segmentation's instances needs besides the segments.
+struct InstanceWrite {
+  const std::string& map;
+  const SegmentationRequest& r;
+  const std::vector<std::string>& category_ids;
+  const std::string& classifier;  // geometry | shape_model:<name>
+  std::optional<std::int64_t> job_id;
+  std::int64_t now_ns;
+};
+
+// One segment as an instance: an operator's furniture it overlaps (IoU >= match_iou) is kept as it is; a perceived
+// one is updated (category shares averaged over its observations, evidence joined); else a new instance. `known` and
+// `perceived` grow with the instances created.
+SegmentOutcome WriteSegment(storage::Connection& c, const InstanceWrite& w, const seg::FurnitureSegment& s,
+                            const SegmentClasses& classes, std::vector<storage::InstanceRecord>& known,
+                            std::set<std::int64_t>& perceived) {
+  int best = -1;
+  double best_iou = 0.0;
+  for (std::size_t i = 0; i < known.size(); ++i) {
+    const double iou = seg::FootprintIoU(s.footprint, FootprintOfInstance(known[i]));
+    if (iou > best_iou) best_iou = iou, best = static_cast<int>(i);
+  }
+  SegmentOutcome o;
+  if (best >= 0 && best_iou >= w.r.match_iou && !IsPerceived(known[static_cast<std::size_t>(best)], perceived)) {
+    o.action = "kept_operator";
+    o.instance = ViewOf(known[static_cast<std::size_t>(best)], std::nullopt);
+    return o;
+  }
+  storage::InstanceRecord inst;
+  storage::FurnitureInstanceRecord fr;
+  std::map<std::string, double> labels;
+  std::set<std::int64_t> evidence(classes.evidence.begin(), classes.evidence.end());
+  const bool update = best >= 0 && best_iou >= w.r.match_iou;
+  if (update) {
+    inst = known[static_cast<std::size_t>(best)];
+    fr = *storage::FindFurnitureInstance(c, w.map, inst.id, false);
+    const Json e = Json::parse(fr.evidence_json, nullptr, false);
+    if (e.is_array()) for (const auto& id : e) evidence.insert(id.get<std::int64_t>());
+    labels = seg::AverageCategoryShares(Labels(inst.labels_json), static_cast<double>(fr.observations), w.category_ids, classes.p);
+    fr.observations += 1;
+  } else {
+    inst.map_id = w.map;
+    inst.kind = "furniture";
+    inst.created_ns = w.now_ns;
+    for (std::size_t i = 0; i < w.category_ids.size(); ++i) labels[w.category_ids[i]] = classes.p[i];
+    fr.created_ns = w.now_ns;
+    fr.observations = 1;
+  }
+  inst.labels_json = Json(labels).dump();
+  inst.label_locked = false;
+  inst.status = "present";
+  inst.position[0] = s.footprint.centre_m.x();
+  inst.position[1] = s.footprint.centre_m.y();
+  inst.position[2] = 0.5 * (s.footprint.min_z_m + s.footprint.max_z_m);
+  inst.extent[0] = s.footprint.extent_m.x();
+  inst.extent[1] = s.footprint.extent_m.y();
+  inst.extent[2] = s.footprint.height_m();
+  inst.yaw_rad = s.footprint.yaw_rad;
+  inst.last_seen_ns = w.now_ns;
+  inst.updated_ns = w.now_ns;
+  if (update) {
+    storage::UpdateInstance(c, inst);
+  } else {
+    inst.id = storage::InsertInstance(c, inst);
+    storage::AppendHistory(c, {inst.id, 0, w.now_ns, true, {inst.position[0], inst.position[1], inst.position[2]}, std::nullopt});
+    known.push_back(inst);
+    perceived.insert(inst.id);
+  }
+  fr.instance_id = inst.id;
+  fr.map_id = w.map;
+  fr.classifier = w.classifier;
+  fr.min_z_m = s.footprint.min_z_m;
+  fr.height_m = s.footprint.height_m();
+  fr.evidence_json = Json(std::vector<std::int64_t>(evidence.begin(), evidence.end())).dump();
+  fr.job_id = w.job_id;
+  fr.cloud = EncodeCloudBlob(s.points_m);
+  fr.updated_ns = w.now_ns;
+  storage::UpsertFurnitureInstance(c, fr);
+  o.action = update ? "updated" : "created";
+  o.instance = ViewOf(inst, fr);
+  o.instance.points = static_cast<std::int64_t>(s.points_m.size());
+  return o;
+}
+
+}  // namespace
+
+SegmentationOutcome RunSegmentation(const FurnitureSegmentationService::Core& core, const std::string& map,
+                                    const SegmentationRequest& r, std::optional<std::int64_t> job_id,
+                                    const std::vector<Eigen::Vector3f>* client_cloud) {
+  CheckSegmentationRequest(r);
+  SegmentationOutcome out;
+  const std::shared_ptr<const engine::ShapeModel> model = ShapeModelOf(core.links, r, out.shape_model);
+  // 1. The room cloud.
+  RoomCloud room = core.store.Read([&](storage::Connection& c) { return ReadKeyframeCloud(c, map, r); });
+  const seg::SegmentationParams params = TakeSourceCloud(core.links, map, r, client_cloud, room, out);
+  // 2. Segments (outside any transaction).
+  const auto t0 = std::chrono::steady_clock::now();
+  const seg::SegmentationResult result = seg::SegmentFurniture(room.points_m, params);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  Summarise(result, out);
+  std::vector<SegmentClasses> classes;
+  for (const seg::FurnitureSegment& s : result.segments) {
+    classes.push_back({Classify(s, result.floor_z_m, core.category_ids, model.get()), seg::SegmentEvidence(s.points_m, room.cameras, r.max_range_m)});
+  }
+  const std::string classifier = model ? "shape_model:" + *out.shape_model : "geometry";
   // 3. Instances, in one write.
-  const std::int64_t now = clock_.NowNs();
-  store_.Write([&](storage::Connection& c) {
+  const InstanceWrite write{map, r, core.category_ids, classifier, job_id, core.clock.NowNs()};
+  core.store.Write([&](storage::Connection& c) {
     RequireMap(c, map);
     storage::InstanceFilter f;
     f.kind = "furniture";
@@ -299,77 +407,8 @@ SegmentationOutcome RunSegmentation(const FurnitureSegmentationService::Core& co
     std::set<std::int64_t> perceived;
     for (const auto& fr : storage::ListFurnitureInstances(c, map, false)) perceived.insert(fr.instance_id);
     for (std::size_t k = 0; k < result.segments.size(); ++k) {
-      const seg::FurnitureSegment& s = result.segments[k];
-      int best = -1;
-      double best_iou = 0.0;
-      for (std::size_t i = 0; i < known.size(); ++i) {
-        const double iou = seg::FootprintIoU(s.footprint, FootprintOfInstance(known[i]));
-        if (iou > best_iou) best_iou = iou, best = static_cast<int>(i);
-      }
-      SegmentOutcome o;
-      if (best >= 0 && best_iou >= r.match_iou && !IsPerceived(known[static_cast<std::size_t>(best)], perceived)) {
-        o.action = "kept_operator";
-        o.instance = ViewOf(known[static_cast<std::size_t>(best)], std::nullopt);
-        out.segments.push_back(std::move(o));
-        continue;
-      }
-      storage::InstanceRecord inst;
-      storage::FurnitureInstanceRecord fr;
-      std::map<std::string, double> labels;
-      std::set<std::int64_t> evidence(classified[k].evidence.begin(), classified[k].evidence.end());
-      const bool update = best >= 0 && best_iou >= r.match_iou;
-      if (update) {
-        inst = known[static_cast<std::size_t>(best)];
-        fr = *storage::FindFurnitureInstance(c, map, inst.id, false);
-        const Json e = Json::parse(fr.evidence_json, nullptr, false);
-        if (e.is_array()) for (const auto& id : e) evidence.insert(id.get<std::int64_t>());
-        labels = seg::AverageCategoryShares(Labels(inst.labels_json), static_cast<double>(fr.observations), category_ids_,
-                                            classified[k].p);
-        fr.observations += 1;
-      } else {
-        inst.map_id = map;
-        inst.kind = "furniture";
-        inst.created_ns = now;
-        for (std::size_t i = 0; i < category_ids_.size(); ++i) labels[category_ids_[i]] = classified[k].p[i];
-        fr.created_ns = now;
-        fr.observations = 1;
-      }
-      inst.labels_json = Json(labels).dump();
-      inst.label_locked = false;
-      inst.status = "present";
-      inst.position[0] = s.footprint.centre_m.x();
-      inst.position[1] = s.footprint.centre_m.y();
-      inst.position[2] = 0.5 * (s.footprint.min_z_m + s.footprint.max_z_m);
-      inst.extent[0] = s.footprint.extent_m.x();
-      inst.extent[1] = s.footprint.extent_m.y();
-      inst.extent[2] = s.footprint.height_m();
-      inst.yaw_rad = s.footprint.yaw_rad;
-      inst.last_seen_ns = now;
-      inst.updated_ns = now;
-      if (update) {
-        storage::UpdateInstance(c, inst);
-      } else {
-        inst.id = storage::InsertInstance(c, inst);
-        storage::AppendHistory(c, {inst.id, 0, now, true, {inst.position[0], inst.position[1], inst.position[2]}, std::nullopt});
-        known.push_back(inst);
-        perceived.insert(inst.id);
-      }
-      fr.instance_id = inst.id;
-      fr.map_id = map;
-      fr.classifier = classifier;
-      fr.min_z_m = s.footprint.min_z_m;
-      fr.height_m = s.footprint.height_m();
-      fr.evidence_json = Json(std::vector<std::int64_t>(evidence.begin(), evidence.end())).dump();
-      fr.job_id = job_id;
-      fr.cloud = EncodeCloudBlob(s.points_m);
-      fr.updated_ns = now;
-      storage::UpsertFurnitureInstance(c, fr);
-      o.action = update ? "updated" : "created";
-      o.instance = ViewOf(inst, fr);
-      o.instance.points = static_cast<std::int64_t>(s.points_m.size());
-      out.segments.push_back(std::move(o));
+      out.segments.push_back(WriteSegment(c, write, result.segments[k], classes[k], known, perceived));
     }
-    return 0;
   });
   return out;
 }
