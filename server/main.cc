@@ -68,38 +68,21 @@ std::string BackupDir(const ServerOptions& c) {
   return std::filesystem::absolute(dir).lexically_normal().string();
 }
 
-int Serve(const Config& config) {
-  const ServerOptions& o = config.server;
-  // glibc gives freed memory back to the kernel eagerly (madvise per thread arena): under concurrent short requests
-  // that is page faults and TLB shootdowns on every request. A server keeps what it had.
-  mallopt(M_TRIM_THRESHOLD, 256 << 20);
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);
-  const bool loopback = IsLoopback(config.server.bind);
-  if (!loopback && config.server.auth == "off") {
-    std::cerr << "anchordb: refusing to serve " << config.server.bind << " with auth=off; only loopback may run open\n";
-    return 2;
-  }
-  // Signals are handled by one thread with sigwait; block them before any other thread starts.
+// Signals are handled by one thread with sigwait: blocked here, before any other thread starts. Answers the set.
+sigset_t BlockStopSignals() {
   sigset_t signals;
   sigemptyset(&signals);
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
   signal(SIGPIPE, SIG_IGN);
+  return signals;
+}
 
-  storage::Store store(StoreOptionsOf(config.server));
-  const auto& report = store.migration_report();
-  for (const auto& name : report.applied) Log("migration applied: " + name);
-  const bool auth_required = config.server.auth == "required" || !loopback;
-  if (auth_required) {
-    const auto tokens = store.Read([](storage::Connection& c) { return storage::CountTokens(c); });
-    if (tokens == 0) {
-      std::cerr << "anchordb: binding " << config.server.bind << " requires API tokens and the database has none; create one "
-                << "with: anchordb token create --role admin --db " << config.server.db << "\n";
-      return 2;
-    }
-  }
-
+// The capabilities' options from the configuration; nullopt (after saying why) when the grounding knowledge file
+// cannot be read.
+std::optional<services::CapabilityOptions> CapabilityOptionsOf(const Config& config) {
+  const ServerOptions& o = config.server;
   services::CapabilityOptions capability_options = config.capabilities;
   capability_options.jobs.synchronous = o.synchronous;
   capability_options.jobs.backup_dir = BackupDir(o);
@@ -107,38 +90,35 @@ int Serve(const Config& config) {
     std::ifstream in(o.grounding_knowledge);
     if (!in) {
       std::cerr << "anchordb: cannot read grounding_knowledge file " << o.grounding_knowledge << "\n";
-      return 2;
+      return std::nullopt;
     }
     capability_options.furniture.knowledge_json.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
-  services::Capabilities capabilities(store, capability_options);
+  return capability_options;
+}
+
+// What the previous stop left: jobs it interrupted (marked failed), keyframe analyses still queued (resumed with the
+// workers, which start here) and OctoMaps behind their maps' keyframes (caught up).
+void ResumeAtStart(storage::Store& store, services::Capabilities& capabilities) {
   if (capabilities.jobs.interrupted_at_start() > 0) {
     Log("jobs interrupted by the previous stop, marked failed: " + std::to_string(capabilities.jobs.interrupted_at_start()));
   }
-  // Keyframe analyses left queued by the previous stop (or kill -9) resume with the workers.
   capabilities.analysis.Start();
   if (const auto queued = capabilities.analysis.View(std::nullopt); queued.pending > 0) {
     Log("keyframe analyses queued at start, resuming: " + std::to_string(queued.pending));
   }
-  // Trees behind their maps' keyframes (stored after the last commit of octomap_keyframes_per_commit) catch up.
-  {
-    std::vector<std::string> maps;
-    for (std::string after;;) {
-      const auto page = store.Read([&](storage::Connection& c) { return storage::ListMaps(c, after, 500); });
-      for (const auto& m : page) maps.push_back(m.id);
-      if (page.size() < 500) break;
-      after = page.back().id;
-    }
-    capabilities.octomap_feed.FollowAtStart(maps);
+  std::vector<std::string> maps;
+  for (std::string after;;) {
+    const auto page = store.Read([&](storage::Connection& c) { return storage::ListMaps(c, after, 500); });
+    for (const auto& m : page) maps.push_back(m.id);
+    if (page.size() < 500) break;
+    after = page.back().id;
   }
+  capabilities.octomap_feed.FollowAtStart(maps);
+}
 
-  ServingLimits limits;
-  limits.worker_threads = o.threads;
-  limits.max_connections = o.max_connections;
-  limits.max_queued_requests = o.max_queued_requests;
-  limits.idle_timeout_s = o.idle_timeout_s;
-  HttpServing serving(limits);
-
+api::HttpOptions HttpOptionsOf(const Config& config, bool auth_required, storage::Store& store, HttpServing& serving,
+                               services::Capabilities& capabilities) {
   api::HttpOptions options;
   options.auth_required = auth_required;
   options.authenticate = [&store](const std::string& token) -> std::optional<api::Caller> {
@@ -151,30 +131,19 @@ int Serve(const Config& config) {
   options.extra_metrics = [&serving, &capabilities] {
     return serving.PrometheusText() + api::AnalysisMetricsText(capabilities.analysis.View(std::nullopt), capabilities.analysis.counters());
   };
-  options.max_body_bytes = static_cast<std::size_t>(o.max_body_bytes);
-  options.max_pending_writes = o.max_pending_writes;
-  api::HttpApi http(options);
-  api::RegisterAllRoutes(http.router(), capabilities);
-  // Every accepted socket gets TCP_NODELAY (server/http_serving.cc): without it, headers and body leave in two
-  // writes and every kept-alive request waits ~40 ms for the peer's delayed ACK.
-  http.Mount(serving.routes());
+  options.max_body_bytes = static_cast<std::size_t>(config.server.max_body_bytes);
+  options.max_pending_writes = config.server.max_pending_writes;
+  return options;
+}
 
-  int port = -1;
-  try {
-    port = serving.Bind(config.server.bind, config.server.port);
-  } catch (const std::runtime_error& e) {
-    std::cerr << "anchordb: " << e.what() << "\n";
-    return 1;
-  }
+// Serves until SIGINT or SIGTERM (or a failure of the serving loop); false on a failure.
+bool ServeUntilStopped(HttpServing& serving, const sigset_t& signals) {
   std::thread signal_thread([&serving, signals] {
     int received = 0;
     sigwait(&signals, &received);
     Log(std::string("received ") + (received == SIGINT ? "SIGINT" : "SIGTERM") + ", shutting down");
     serving.Stop();
   });
-  std::printf("anchordb listening on http://%s:%d (db %s, schema version %d, auth %s)\n", config.server.bind.c_str(), port,
-              config.server.db.c_str(), report.to_version, auth_required ? "required" : "off (loopback)");
-  std::fflush(stdout);
   bool ok = true;
   try {
     serving.Run();
@@ -186,6 +155,56 @@ int Serve(const Config& config) {
     pthread_kill(signal_thread.native_handle(), SIGTERM);  // wakes sigwait if the server stopped for another reason
     signal_thread.join();
   }
+  return ok;
+}
+
+int Serve(const Config& config) {
+  const ServerOptions& o = config.server;
+  // glibc gives freed memory back to the kernel eagerly (madvise per thread arena): under concurrent short requests
+  // that is page faults and TLB shootdowns on every request. A server keeps what it had.
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  const bool loopback = IsLoopback(o.bind);
+  if (!loopback && o.auth == "off") {
+    std::cerr << "anchordb: refusing to serve " << o.bind << " with auth=off; only loopback may run open\n";
+    return 2;
+  }
+  const sigset_t signals = BlockStopSignals();
+  storage::Store store(StoreOptionsOf(o));
+  const auto& report = store.migration_report();
+  for (const auto& name : report.applied) Log("migration applied: " + name);
+  const bool auth_required = o.auth == "required" || !loopback;
+  if (auth_required && store.Read([](storage::Connection& c) { return storage::CountTokens(c); }) == 0) {
+    std::cerr << "anchordb: binding " << o.bind << " requires API tokens and the database has none; create one "
+              << "with: anchordb token create --role admin --db " << o.db << "\n";
+    return 2;
+  }
+  const std::optional<services::CapabilityOptions> capability_options = CapabilityOptionsOf(config);
+  if (!capability_options) return 2;
+  services::Capabilities capabilities(store, *capability_options);
+  ResumeAtStart(store, capabilities);
+  ServingLimits limits;
+  limits.worker_threads = o.threads;
+  limits.max_connections = o.max_connections;
+  limits.max_queued_requests = o.max_queued_requests;
+  limits.idle_timeout_s = o.idle_timeout_s;
+  HttpServing serving(limits);
+  api::HttpApi http(HttpOptionsOf(config, auth_required, store, serving, capabilities));
+  api::RegisterAllRoutes(http.router(), capabilities);
+  // Every accepted socket gets TCP_NODELAY (server/http_serving.cc): without it, headers and body leave in two
+  // writes and every kept-alive request waits ~40 ms for the peer's delayed ACK.
+  http.Mount(serving.routes());
+  int port = -1;
+  try {
+    port = serving.Bind(o.bind, o.port);
+  } catch (const std::runtime_error& e) {
+    std::cerr << "anchordb: " << e.what() << "\n";
+    return 1;
+  }
+  std::printf("anchordb listening on http://%s:%d (db %s, schema version %d, auth %s)\n", o.bind.c_str(), port,
+              o.db.c_str(), report.to_version, auth_required ? "required" : "off (loopback)");
+  std::fflush(stdout);
+  const bool ok = ServeUntilStopped(serving, signals);
   capabilities.scenes.PersistAll();
   Log("stopped; scene models persisted, database closed cleanly");
   return ok ? 0 : 1;

@@ -142,6 +142,83 @@ PinholeIntrinsics TumCamera(const std::string& name) {
   return k;
 }
 
+namespace {
+
+// The frames to import, each with its pose, every file checked before anything is stored.
+struct PlannedFrame {
+  const TumImage* image;
+  const TumPose* pose;
+};
+struct ImportPlan {
+  std::vector<PlannedFrame> frames;
+  std::size_t without_pose = 0;  // depth frames with no ground-truth pose within max_dt_s
+  PinholeIntrinsics camera;      // o.camera with the sequence's image size
+};
+
+ImportPlan PlanImport(const fs::path& dir, const std::vector<TumImage>& depth, const std::vector<TumPose>& poses,
+                      const TumImportOptions& o) {
+  ImportPlan plan;
+  plan.camera = o.camera;
+  for (std::size_t i = 0; i < depth.size(); i += static_cast<std::size_t>(o.every)) {
+    if (o.max_frames > 0 && plan.frames.size() >= static_cast<std::size_t>(o.max_frames)) break;
+    const TumPose* pose = Nearest(poses, depth[i].stamp_s, o.max_dt_s);
+    if (!pose) {
+      ++plan.without_pose;
+      continue;
+    }
+    const auto [w, h] = PngSize16(dir / depth[i].path);
+    if (plan.frames.empty()) plan.camera.width = w, plan.camera.height = h;
+    if (w != plan.camera.width || h != plan.camera.height) {
+      throw std::invalid_argument(depth[i].path + ": " + std::to_string(w) + " x " + std::to_string(h) +
+                                  ", the sequence's first frame is " + std::to_string(plan.camera.width) + " x " +
+                                  std::to_string(plan.camera.height));
+    }
+    plan.frames.push_back({&depth[i], pose});
+  }
+  if (plan.frames.empty()) {
+    throw std::invalid_argument("no depth frame of depth.txt (" + std::to_string(depth.size()) +
+                                " lines) has a ground-truth pose within " + std::to_string(o.max_dt_s) + " s");
+  }
+  return plan;
+}
+
+// What an import did, for the audit trail and the last line of its output.
+struct ImportCounts {
+  std::size_t frames_imported, frames_in_depth_txt, frames_without_pose, keyframes, keyframes_in_octomap;
+  std::int64_t first_scene, last_scene;
+  double seconds;
+};
+
+// The import's summary: an audit entry (actor cli, action map.import_tum) and the last two output lines.
+void RecordImport(storage::Store& store, const fs::path& dir, const TumImportOptions& o, const ImportCounts& n,
+                  const services::OctomapInfo& info, std::ostream& out) {
+  json::Json summary = {{"sequence", fs::absolute(dir).lexically_normal().string()},
+                        {"map", o.map},
+                        {"frames_imported", n.frames_imported},
+                        {"frames_in_depth_txt", n.frames_in_depth_txt},
+                        {"frames_without_pose", n.frames_without_pose},
+                        {"scenes", {n.first_scene, n.last_scene}},
+                        {"keyframes", n.keyframes},
+                        {"keyframes_in_octomap", n.keyframes_in_octomap},
+                        {"octomap_version", info.version},
+                        {"octomap_leaves", info.metadata.leaves},
+                        {"octomap_occupied_leaves", info.metadata.occupied_leaves},
+                        {"seconds", n.seconds}};
+  services::AuditEntry entry;
+  entry.actor = "cli", entry.action = "map.import_tum", entry.map = o.map, entry.after_json = summary.dump();
+  services::AuditService(store).Record(std::move(entry));
+  char line[240];
+  std::snprintf(line, sizeof(line),
+                "imported %zu frames (%zu without a pose within %.3f s skipped) in %.1f s (%.1f frames/s): scenes "
+                "%lld-%lld, %zu keyframes, octomap v%lld with %zu leaves (%zu occupied)\n",
+                n.frames_imported, n.frames_without_pose, o.max_dt_s, n.seconds, n.frames_imported / std::max(n.seconds, 1e-9),
+                static_cast<long long>(n.first_scene), static_cast<long long>(n.last_scene), n.keyframes,
+                static_cast<long long>(info.version), info.metadata.leaves, info.metadata.occupied_leaves);
+  out << line << summary.dump() << "\n";
+}
+
+}  // namespace
+
 void ImportTum(const Config& config, const TumImportOptions& o, std::ostream& out) {
   const fs::path dir(o.dir);
   if (!fs::is_directory(dir)) throw std::invalid_argument("--dir: no directory " + o.dir);
@@ -150,35 +227,10 @@ void ImportTum(const Config& config, const TumImportOptions& o, std::ostream& ou
   const std::vector<TumImage> depth = ParseTumImageList(depth_list, "depth.txt");
   const std::vector<TumPose> poses = ParseTumGroundTruth(truth_list, "groundtruth.txt");
   if (poses.empty()) throw std::invalid_argument("groundtruth.txt holds no pose");
-
-  // The frames to import, each with its pose, every file checked before anything is stored.
-  struct Planned {
-    const TumImage* image;
-    const TumPose* pose;
-  };
-  std::vector<Planned> plan;
-  std::size_t without_pose = 0;
-  PinholeIntrinsics camera = o.camera;
-  for (std::size_t i = 0; i < depth.size(); i += static_cast<std::size_t>(o.every)) {
-    if (o.max_frames > 0 && plan.size() >= static_cast<std::size_t>(o.max_frames)) break;
-    const TumPose* pose = Nearest(poses, depth[i].stamp_s, o.max_dt_s);
-    if (!pose) {
-      ++without_pose;
-      continue;
-    }
-    const auto [w, h] = PngSize16(dir / depth[i].path);
-    if (plan.empty()) camera.width = w, camera.height = h;
-    if (w != camera.width || h != camera.height) {
-      throw std::invalid_argument(depth[i].path + ": " + std::to_string(w) + " x " + std::to_string(h) +
-                                  ", the sequence's first frame is " + std::to_string(camera.width) + " x " +
-                                  std::to_string(camera.height));
-    }
-    plan.push_back({&depth[i], pose});
-  }
-  if (plan.empty()) {
-    throw std::invalid_argument("no depth frame of depth.txt (" + std::to_string(depth.size()) +
-                                " lines) has a ground-truth pose within " + std::to_string(o.max_dt_s) + " s");
-  }
+  const ImportPlan planned = PlanImport(dir, depth, poses, o);
+  const std::vector<PlannedFrame>& plan = planned.frames;
+  const std::size_t without_pose = planned.without_pose;
+  const PinholeIntrinsics& camera = planned.camera;
 
   storage::Store store(StoreOptionsOf(config.server));
   services::CapabilityOptions capability = config.capabilities;
@@ -201,7 +253,7 @@ void ImportTum(const Config& config, const TumImportOptions& o, std::ostream& ou
   services::FollowReport tree;
   std::int64_t first_scene = 0, last_scene = 0;
   for (std::size_t k = 0; k < plan.size(); ++k) {
-    const Planned& p = plan[k];
+    const PlannedFrame& p = plan[k];
     services::OpenSceneRequest open;
     open.camera = camera;
     open.X_MapCamera = p.pose->X_WorldCamera;
@@ -229,29 +281,9 @@ void ImportTum(const Config& config, const TumImportOptions& o, std::ostream& ou
   octomap.CommitPending();  // the last keyframes of the sequence (octomap_keyframes_per_commit)
   const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const services::OctomapInfo info = octomap.Get(o.map);
-  json::Json summary = {{"sequence", fs::absolute(dir).lexically_normal().string()},
-                        {"map", o.map},
-                        {"frames_imported", plan.size()},
-                        {"frames_in_depth_txt", depth.size()},
-                        {"frames_without_pose", without_pose},
-                        {"scenes", {first_scene, last_scene}},
-                        {"keyframes", keyframes},
-                        {"keyframes_in_octomap", tree.keyframes_integrated},
-                        {"octomap_version", info.version},
-                        {"octomap_leaves", info.metadata.leaves},
-                        {"octomap_occupied_leaves", info.metadata.occupied_leaves},
-                        {"seconds", elapsed_s}};
-  services::AuditEntry entry;
-  entry.actor = "cli", entry.action = "map.import_tum", entry.map = o.map, entry.after_json = summary.dump();
-  services::AuditService(store).Record(std::move(entry));
-  char line[240];
-  std::snprintf(line, sizeof(line),
-                "imported %zu frames (%zu without a pose within %.3f s skipped) in %.1f s (%.1f frames/s): scenes "
-                "%lld-%lld, %zu keyframes, octomap v%lld with %zu leaves (%zu occupied)\n",
-                plan.size(), without_pose, o.max_dt_s, elapsed_s, plan.size() / std::max(elapsed_s, 1e-9),
-                static_cast<long long>(first_scene), static_cast<long long>(last_scene), keyframes,
-                static_cast<long long>(info.version), info.metadata.leaves, info.metadata.occupied_leaves);
-  out << line << summary.dump() << "\n";
+  const ImportCounts counts{plan.size(), depth.size(), without_pose, keyframes, tree.keyframes_integrated, first_scene,
+                            last_scene, elapsed_s};
+  RecordImport(store, dir, o, counts, info, out);
 }
 
 int ImportTumCommand(const std::vector<std::string>& args, const std::map<std::string, std::string>& environment) {

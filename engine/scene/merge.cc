@@ -140,197 +140,206 @@ void MedianTolerance(const PoseUncertainty& uncertainty, const std::vector<Eigen
   report.tolerance_m = m[m.size() / 2];
 }
 
-// Lines 2-11 of Algorithm 2 for one earlier model, rasterised into the current view as s_u, on S_v (s_v, w).
-void MergeOne(const PriorModel& prior, const std::vector<float>& s_u, const Eigen::Isometry3d& X_C_prior,
-              const PoseUncertainty& uncertainty, const PinholeIntrinsics& K, const MergeParams& params,
-              std::vector<float>& s_v, std::vector<float>& w, MergeModelReport& report) {
-  const std::size_t n = s_v.size();
-  const float beta = static_cast<float>(params.beta);
-  const double k = params.pose_sigma_factor;
+// What the premises read of one earlier model's background image, built once per model.
+constexpr int kBuckets = 9;
+constexpr int kRadii[kBuckets] = {2, 3, 4, 6, 8, 12, 16, 24, 32};
+
+int BucketOf(double px) {
+  int b = 0;
+  while (b + 1 < kBuckets && kRadii[b] < px) ++b;
+  return b;
+}
+
+struct PriorImages {
+  cv::Mat unknown_distance_px;       // distance [px] of every earlier pixel to the nearest measured one (0 where measured)
+  PixelBox seen;                     // the earlier sensor's effective field of view
+  cv::Mat nearest_within[kBuckets];  // nearest measured depth within square windows of kRadii (unknown = +inf)
+};
+
+PriorImages PriorImagesOf(const PriorModel& prior) {
   const PinholeIntrinsics& Kp = prior.K;
-  const Eigen::Isometry3d X_prior_C = X_C_prior.inverse();
-  const int r = params.neighbourhood_px;
-  // Distance [px] of every earlier pixel to the nearest measured one (0 where measured).
+  PriorImages out;
   cv::Mat unknown(Kp.height, Kp.width, CV_8U);
   for (std::size_t q = 0; q < prior.background_m.size(); ++q) unknown.data[q] = prior.background_m[q] > 0.0f ? 0 : 255;
-  cv::Mat unknown_distance_px;
-  cv::distanceTransform(unknown, unknown_distance_px, cv::DIST_L2, cv::DIST_MASK_3);
-  // The earlier sensor's effective field of view (PixelBox).
-  PixelBox seen{Kp.width, -1, Kp.height, -1};
+  cv::distanceTransform(unknown, out.unknown_distance_px, cv::DIST_L2, cv::DIST_MASK_3);
+  out.seen = PixelBox{Kp.width, -1, Kp.height, -1};
   for (int v = 0; v < Kp.height; ++v) {
     for (int u = 0; u < Kp.width; ++u) {
       if (prior.background_m[static_cast<std::size_t>(v) * Kp.width + u] > 0.0f) {
-        seen.u_min = std::min(seen.u_min, u), seen.u_max = std::max(seen.u_max, u);
-        seen.v_min = std::min(seen.v_min, v), seen.v_max = std::max(seen.v_max, v);
+        out.seen.u_min = std::min(out.seen.u_min, u), out.seen.u_max = std::max(out.seen.u_max, u);
+        out.seen.v_min = std::min(out.seen.v_min, v), out.seen.v_max = std::max(out.seen.v_max, v);
       }
     }
   }
-  // Nearest measured depth within square windows of radius 2 to 32 px (unknown = +inf): premise 2's test. The
-  // steps are fine enough (1.5x) that rounding a pixel's displacement up to the next one costs little.
+  // Premise 2's test. The steps are fine enough (1.5x) that rounding a pixel's displacement up to the next one costs
+  // little.
   cv::Mat earlier(Kp.height, Kp.width, CV_32F);
   for (std::size_t q = 0; q < prior.background_m.size(); ++q) {
     earlier.ptr<float>()[q] = prior.background_m[q] > 0.0f ? prior.background_m[q] : std::numeric_limits<float>::max();
   }
-  static constexpr int kBuckets = 9;
-  static constexpr int kRadii[kBuckets] = {2, 3, 4, 6, 8, 12, 16, 24, 32};
-  cv::Mat nearest_within[kBuckets];
   for (int b = 0; b < kBuckets; ++b) {
-    cv::erode(earlier, nearest_within[b], cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kRadii[b] + 1, 2 * kRadii[b] + 1)),
+    cv::erode(earlier, out.nearest_within[b], cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kRadii[b] + 1, 2 * kRadii[b] + 1)),
               cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
   }
-  const auto bucket_of = [](double px) {
-    int b = 0;
-    while (b + 1 < kBuckets && kRadii[b] < px) ++b;
-    return b;
+  return out;
+}
+
+// Everything one pixel's decision reads: the earlier model and its images, the rasterised earlier model s_u, the
+// current pose uncertainty and parameters.
+struct MergeInputs {
+  const PriorModel& prior;
+  const PriorImages& images;
+  const std::vector<float>& s_u;
+  const Eigen::Isometry3d X_prior_C;
+  const PoseUncertainty& uncertainty;
+  const PinholeIntrinsics& K;
+  const MergeParams& params;
+  float beta;
+  double k;  // pose_sigma_factor
+};
+
+// Premise 2 for a point that projects into the earlier image (proj, own = the earlier depth there): nothing stood in
+// front of (or at) the point as seen from the earlier camera -- at the point's depth it would have been seen as
+// static. The point's own line of sight must show something farther by theta and by what the uncertainty may change
+// there (the slope-aware sigma of the earlier image), or nothing; and since the point may lie beside where it
+// projects, nothing nearer than the point may have been seen within the window its displacement spans either --
+// except the surface under the point continuing (a slanted floor or table top) -- and at least occlusion_px where
+// the own pixel has no depth, as a dropped pixel (grazing angle, shadow) is no evidence of free space.
+bool Occluded(const MergeInputs& m, const Projection& proj, float own, double px_E, double margin_E, const Slope& g_E) {
+  const auto window_clear = [&](double min_px) {
+    const int b = BucketOf(std::max(min_px, px_E));
+    const float nearest = m.images.nearest_within[b].at<float>(proj.v, proj.u);
+    if (nearest >= proj.z + m.beta * proj.z) return true;
+    const double continuing = own - std::hypot(g_E.du, g_E.dv) * kRadii[b] * std::sqrt(2.0);
+    return own > 0.0f && nearest >= continuing - m.beta * own;
   };
-  if (params.record_decisions) report.decisions.assign(n, static_cast<std::uint8_t>(MergeDecision::kNothing));
-  const auto decide = [&](std::size_t i, MergeDecision d) {
-    if (params.record_decisions) report.decisions[i] = static_cast<std::uint8_t>(d);
-  };
+  return own > 0.0f ? own < proj.z + margin_E || !window_clear(1.0) : !window_clear(m.params.occlusion_px);
+}
+
+// Premise 3: the transformed model has points at depth sv near pixel (u, v): within neighbourhood_px as in the
+// thesis, and within neighbourhood_sigma_factor sigmas of the point's displacement in the current image (sampled
+// sparsely) where an earlier surface, continued along its slope, passes the pixel within theta and the point's z
+// uncertainty.
+bool NeighbourAtDepth(const MergeInputs& m, int u, int v, float su, float sv, double sigma_px_C, const Motion& A_C) {
+  const PinholeIntrinsics& K = m.K;
+  const float theta = m.beta * sv;
+  const int r = m.params.neighbourhood_px;
+  for (int dv = -r; dv <= r; ++dv) {
+    for (int du = -r; du <= r; ++du) {
+      const int uu = u + du, vv = v + dv;
+      if (uu < 0 || vv < 0 || uu >= K.width || vv >= K.height) continue;
+      const float q = m.s_u[static_cast<std::size_t>(vv) * K.width + uu];
+      if (q > 0.0f && std::abs(q - sv) < theta) return true;
+    }
+  }
+  const int reach = static_cast<int>(std::ceil(m.params.neighbourhood_sigma_factor * sigma_px_C));
+  if (reach <= r) return false;
+  const double tol = std::hypot(static_cast<double>(theta), m.k * m.uncertainty.Z(A_C));
+  const int stride = std::max(1, reach / 4);
+  for (int dv = -reach; dv <= reach; dv += stride) {
+    for (int du = -reach; du <= reach; du += stride) {
+      const int uu = u + du, vv = v + dv;
+      if (uu < 0 || vv < 0 || uu >= K.width || vv >= K.height) continue;
+      const std::size_t q = static_cast<std::size_t>(vv) * K.width + uu;
+      if (m.s_u[q] <= 0.0f) continue;
+      const Slope g = SlopeOf(m.s_u, K.width, K.height, uu, vv, m.beta);
+      const double continued = m.s_u[q] - g.du * du - g.dv * dv;
+      // Only a surface other than the one the earlier model shows at this pixel (an edge the error may have
+      // shifted over it): the surface behind a new object, continued, is no evidence against it.
+      if (su > 0.0f && std::abs(continued - su) < m.beta * su) continue;
+      if (std::abs(continued - sv) < tol) return true;
+    }
+  }
+  return false;
+}
+
+// Lines 2-11 for pixel (u, v) whose current depth sv is measured: the decision, and in `depth` the pixel's new depth
+// when the decision replaces it (kReplacedFarther, kRearProjected).
+MergeDecision DecideMeasured(const MergeInputs& m, int u, int v, float su, float sv, float& depth) {
+  const PinholeIntrinsics& Kp = m.prior.K;
+  const float theta = m.beta * sv;
+  // Line 3-4 (the pose uncertainty enters below: a surface the error moved farther fails premise 2's margin).
+  if (su > 0.0f && std::abs(su - sv) < theta) return MergeDecision::kSupported;
+  if (su > 0.0f && su < sv) return MergeDecision::kNearer;  // the static background is known to lie behind
+  // Lines 6-11 need the premises for s_v^i, each under the pose uncertainty of the point.
+  const Eigen::Vector3d ray = PixelRay(m.K, u, v);
+  const Eigen::Vector3d p_C = ray * static_cast<double>(sv);
+  const Eigen::Vector3d p_prior = m.X_prior_C * p_C;
+  const Projection proj = Project(p_prior, Kp, m.params.frustum_far_m);
+  if (!proj.inside) return MergeDecision::kRejectedFov;  // premise 1
+  const float own = m.prior.background_m[static_cast<std::size_t>(proj.v) * Kp.width + proj.u];
+  if (own > 0.0f && own < proj.z + m.beta * proj.z) return MergeDecision::kRejectedOcclusion;  // whatever the uncertainty
+  const Motion A_C = PoseUncertainty::InCurrent(p_C), A_E = m.uncertainty.InEarlier(p_C);
+  const double px_E = m.k * m.uncertainty.Pixels(A_E, p_prior, Kp), sigma_px_C = m.uncertainty.Pixels(A_C, p_C, m.K);
+  if (std::max(px_E, m.k * sigma_px_C) > m.params.max_pose_tolerance_px) return MergeDecision::kRejectedUncertain;
+  const int margin_px = static_cast<int>(std::ceil(px_E));
+  if (!m.images.seen.Contains(proj.u - margin_px, proj.v - margin_px) || !m.images.seen.Contains(proj.u + margin_px, proj.v + margin_px)) {
+    return MergeDecision::kRejectedFov;  // premise 1 under the uncertainty: well inside the earlier field of view
+  }
+  const Slope g_E = SlopeOf(m.prior.background_m, Kp.width, Kp.height, proj.u, proj.v, m.beta);
+  const double margin_E = std::hypot(static_cast<double>(m.beta) * proj.z, m.k * m.uncertainty.Slanted(A_E, p_prior, Kp, g_E.du, g_E.dv));
+  if (Occluded(m, proj, own, px_E, margin_E, g_E)) return MergeDecision::kRejectedOcclusion;
+  if (NeighbourAtDepth(m, u, v, su, sv, sigma_px_C, A_C)) return MergeDecision::kRejectedNeighbourhood;
+  if (su > sv) {  // lines 6-8: the earlier camera must have seen through the point (measured farther there)
+    if (!(own > proj.z + margin_E)) return MergeDecision::kNotSeenThrough;
+    depth = su;
+    return MergeDecision::kReplacedFarther;
+  }
+  // su unknown: lines 9-11, rear projection.
+  const double min_unknown_px = std::max(m.params.rear_projection_min_unknown_px, px_E);
+  if (own == 0.0f && m.images.unknown_distance_px.at<float>(proj.v, proj.u) < min_unknown_px) {
+    return MergeDecision::kRejectedDropout;  // a dropout next to measured structure: not seen through
+  }
+  const double margin_per_m = m.k * m.uncertainty.Z(A_E) / proj.z;
+  const double exit = FreeSpaceExit(m.X_prior_C, ray, sv, Kp, m.images.nearest_within[BucketOf(std::max(1.0, px_E))],
+                                    m.images.unknown_distance_px, m.images.seen, margin_per_m, min_unknown_px, m.params);
+  // Beyond theta of both depths: Algorithm 1 would take a background within theta of its own depth for the surface
+  // measured now.
+  if (std::isfinite(exit) && exit > sv + theta && exit - sv >= m.params.beta * exit) {
+    depth = static_cast<float>(exit);
+    return MergeDecision::kRearProjected;
+  }
+  return MergeDecision::kRearNotBehind;
+}
+
+// A decision applied to pixel i of (s_v, w) and counted in the report.
+void Apply(MergeDecision d, std::size_t i, float depth, std::vector<float>& s_v, std::vector<float>& w, MergeModelReport& report) {
+  switch (d) {
+    case MergeDecision::kFilledUnknown: s_v[i] = depth, w[i] = 1.0f, ++report.filled_unknown; break;
+    case MergeDecision::kSupported: w[i] += 1.0f, ++report.supported; break;
+    case MergeDecision::kRejectedFov: ++report.rejected_fov; break;
+    case MergeDecision::kRejectedOcclusion:
+    case MergeDecision::kNotSeenThrough:
+    case MergeDecision::kRejectedDropout: ++report.rejected_occlusion; break;
+    case MergeDecision::kRejectedUncertain: ++report.rejected_uncertain; break;
+    case MergeDecision::kRejectedNeighbourhood: ++report.rejected_neighbourhood; break;
+    case MergeDecision::kReplacedFarther: s_v[i] = depth, w[i] = 1.0f, ++report.replaced_farther; break;
+    case MergeDecision::kRearProjected: s_v[i] = depth, w[i] = 1.0f, ++report.rear_projected; break;
+    case MergeDecision::kNothing:
+    case MergeDecision::kNearer:
+    case MergeDecision::kRearNotBehind:
+    case MergeDecision::kCount: break;
+  }
+}
+
+// Lines 2-11 of Algorithm 2 for one earlier model, rasterised into the current view as s_u, on S_v (s_v, w).
+void MergeOne(const PriorModel& prior, const std::vector<float>& s_u, const Eigen::Isometry3d& X_C_prior,
+              const PoseUncertainty& uncertainty, const PinholeIntrinsics& K, const MergeParams& params,
+              std::vector<float>& s_v, std::vector<float>& w, MergeModelReport& report) {
+  const PriorImages images = PriorImagesOf(prior);
+  const MergeInputs m{prior, images, s_u, X_C_prior.inverse(), uncertainty, K, params, static_cast<float>(params.beta),
+                      params.pose_sigma_factor};
+  if (params.record_decisions) report.decisions.assign(s_v.size(), static_cast<std::uint8_t>(MergeDecision::kNothing));
   for (int v = 0; v < K.height; ++v) {
     for (int u = 0; u < K.width; ++u) {
       const std::size_t i = static_cast<std::size_t>(v) * K.width + u;
       const float su = s_u[i], sv = s_v[i];
-      if (sv == 0.0f) {  // nothing measured here now: the earlier background fills the gap
-        if (su > 0.0f) s_v[i] = su, w[i] = 1.0f, ++report.filled_unknown, decide(i, MergeDecision::kFilledUnknown);
-        continue;
-      }
-      const float theta = beta * sv;
-      const Eigen::Vector3d ray = PixelRay(K, u, v);
-      // Line 3-4 (the pose uncertainty enters below: a surface the error moved farther fails premise 2's margin).
-      const bool same = su > 0.0f && std::abs(su - sv) < theta;
-      if (same) {
-        w[i] += 1.0f;
-        ++report.supported;
-        decide(i, MergeDecision::kSupported);
-        continue;
-      }
-      if (su > 0.0f && su < sv) {  // nearer: the static background is known to lie behind
-        decide(i, MergeDecision::kNearer);
-        continue;
-      }
-      // Lines 6-11 need the premises for s_v^i, each under the pose uncertainty of the point.
-      const Eigen::Vector3d p_C = ray * static_cast<double>(sv);
-      const Eigen::Vector3d p_prior = X_prior_C * p_C;
-      const Projection proj = Project(p_prior, Kp, params.frustum_far_m);
-      if (!proj.inside) {  // premise 1
-        ++report.rejected_fov;
-        decide(i, MergeDecision::kRejectedFov);
-        continue;
-      }
-      const std::size_t j = static_cast<std::size_t>(proj.v) * Kp.width + proj.u;
-      const float own = prior.background_m[j];
-      if (own > 0.0f && own < proj.z + beta * proj.z) {  // premise 2 fails whatever the uncertainty (see below)
-        ++report.rejected_occlusion;
-        decide(i, MergeDecision::kRejectedOcclusion);
-        continue;
-      }
-      const Motion A_C = PoseUncertainty::InCurrent(p_C), A_E = uncertainty.InEarlier(p_C);
-      const double px_E = k * uncertainty.Pixels(A_E, p_prior, Kp), sigma_px_C = uncertainty.Pixels(A_C, p_C, K);
-      const double px_C = k * sigma_px_C;
-      if (std::max(px_E, px_C) > params.max_pose_tolerance_px) {
-        ++report.rejected_uncertain;
-        decide(i, MergeDecision::kRejectedUncertain);
-        continue;
-      }
-      const int margin_px = static_cast<int>(std::ceil(px_E));
-      if (!seen.Contains(proj.u - margin_px, proj.v - margin_px) || !seen.Contains(proj.u + margin_px, proj.v + margin_px)) {
-        ++report.rejected_fov;  // premise 1 under the uncertainty: well inside the earlier field of view
-        decide(i, MergeDecision::kRejectedFov);
-        continue;
-      }
-      // Premise 2: nothing stood in front of (or at) the point as seen from the earlier camera -- at the point's
-      // depth it would have been seen as static. The point's own line of sight must show something farther by
-      // theta and by what the uncertainty may change there (the slope-aware sigma of the earlier image), or
-      // nothing; and since the point may lie beside where it projects, nothing nearer than the point may have been
-      // seen within the window its displacement spans either -- except the surface under the point continuing
-      // (a slanted floor or table top) -- and at least occlusion_px where the own pixel has no depth, as a
-      // dropped pixel (grazing angle, shadow) is no evidence of free space.
-      const Slope g_E = SlopeOf(prior.background_m, Kp.width, Kp.height, proj.u, proj.v, beta);
-      const double margin_E = std::hypot(static_cast<double>(beta) * proj.z,
-                                         k * uncertainty.Slanted(A_E, p_prior, Kp, g_E.du, g_E.dv));
-      const auto window_clear = [&](double min_px) {
-        const int b = bucket_of(std::max(min_px, px_E));
-        const float nearest = nearest_within[b].at<float>(proj.v, proj.u);
-        if (nearest >= proj.z + beta * proj.z) return true;
-        const double continuing = own - std::hypot(g_E.du, g_E.dv) * kRadii[b] * std::sqrt(2.0);
-        return own > 0.0f && nearest >= continuing - beta * own;
-      };
-      const bool occluded = own > 0.0f ? own < proj.z + margin_E || !window_clear(1.0) : !window_clear(params.occlusion_px);
-      if (occluded) {  // something in front of, or at, the point's depth was seen
-        ++report.rejected_occlusion;
-        decide(i, MergeDecision::kRejectedOcclusion);
-        continue;
-      }
-      // Premise 3: the transformed model has points at this depth nearby: within neighbourhood_px as in the thesis,
-      // and within neighbourhood_sigma_factor sigmas of the point's displacement in the current image (sampled
-      // sparsely) where an earlier surface, continued along its slope, passes the pixel within theta and the point's
-      // z uncertainty.
-      bool neighbour = false;
-      for (int dv = -r; dv <= r && !neighbour; ++dv) {
-        for (int du = -r; du <= r && !neighbour; ++du) {
-          const int uu = u + du, vv = v + dv;
-          if (uu < 0 || vv < 0 || uu >= K.width || vv >= K.height) continue;
-          const float q = s_u[static_cast<std::size_t>(vv) * K.width + uu];
-          neighbour = q > 0.0f && std::abs(q - sv) < theta;
-        }
-      }
-      const int reach = static_cast<int>(std::ceil(params.neighbourhood_sigma_factor * sigma_px_C));
-      if (!neighbour && reach > r) {
-        const double tol = std::hypot(static_cast<double>(theta), k * uncertainty.Z(A_C));
-        const int stride = std::max(1, reach / 4);
-        for (int dv = -reach; dv <= reach && !neighbour; dv += stride) {
-          for (int du = -reach; du <= reach && !neighbour; du += stride) {
-            const int uu = u + du, vv = v + dv;
-            if (uu < 0 || vv < 0 || uu >= K.width || vv >= K.height) continue;
-            const std::size_t q = static_cast<std::size_t>(vv) * K.width + uu;
-            if (s_u[q] <= 0.0f) continue;
-            const Slope g = SlopeOf(s_u, K.width, K.height, uu, vv, beta);
-            const double continued = s_u[q] - g.du * du - g.dv * dv;
-            // Only a surface other than the one the earlier model shows at this pixel (an edge the error may have
-            // shifted over it): the surface behind a new object, continued, is no evidence against it.
-            if (su > 0.0f && std::abs(continued - su) < beta * su) continue;
-            neighbour = std::abs(continued - sv) < tol;
-          }
-        }
-      }
-      if (neighbour) {
-        ++report.rejected_neighbourhood;
-        decide(i, MergeDecision::kRejectedNeighbourhood);
-        continue;
-      }
-      if (su > sv) {  // lines 6-8
-        // The earlier camera must have seen through the point (measured farther there), not merely nothing.
-        if (!(own > proj.z + margin_E)) {
-          ++report.rejected_occlusion;
-          decide(i, MergeDecision::kNotSeenThrough);
-          continue;
-        }
-        s_v[i] = su;
-        w[i] = 1.0f;
-        ++report.replaced_farther;
-        decide(i, MergeDecision::kReplacedFarther);
-      } else {  // su unknown: lines 9-11, rear projection
-        const double min_unknown_px = std::max(params.rear_projection_min_unknown_px, px_E);
-        if (own == 0.0f && unknown_distance_px.at<float>(proj.v, proj.u) < min_unknown_px) {
-          ++report.rejected_occlusion;  // a dropout next to measured structure: not seen through
-          decide(i, MergeDecision::kRejectedDropout);
-          continue;
-        }
-        const double margin_per_m = k * uncertainty.Z(A_E) / proj.z;
-        const double exit = FreeSpaceExit(X_prior_C, ray, sv, Kp, nearest_within[bucket_of(std::max(1.0, px_E))],
-                                          unknown_distance_px, seen, margin_per_m, min_unknown_px, params);
-        // Beyond theta of both depths: Algorithm 1 would take a background within theta of its own depth for the
-        // surface measured now.
-        if (std::isfinite(exit) && exit > sv + theta && exit - sv >= params.beta * exit) {
-          s_v[i] = static_cast<float>(exit);
-          w[i] = 1.0f;
-          ++report.rear_projected;
-          decide(i, MergeDecision::kRearProjected);
-        } else {
-          decide(i, MergeDecision::kRearNotBehind);
-        }
-      }
+      float depth = su;
+      MergeDecision d = MergeDecision::kNothing;
+      if (sv != 0.0f) d = DecideMeasured(m, u, v, su, sv, depth);
+      else if (su > 0.0f) d = MergeDecision::kFilledUnknown;  // nothing measured here now: the earlier background fills the gap
+      Apply(d, i, depth, s_v, w, report);
+      if (params.record_decisions) report.decisions[i] = static_cast<std::uint8_t>(d);
     }
   }
 }
