@@ -12,22 +12,14 @@
 #include "storage/store.h"
 #include "tests/support/pg_scratch.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/test_store.h"
 
 namespace anchordb::storage {
 namespace {
 
 class EventRepositoryTest : public ::testing::TestWithParam<Engine> {
  protected:
-  void SetUp() override {
-    StoreOptions o;
-    o.path = db_.location();
-    o.reader_connections = 1;
-    store_ = std::make_unique<Store>(o);
-    store_->Write([](Connection& c) {
-      InsertMap(c, {"home", "home", 1});
-      InsertMap(c, {"other", "other", 1});
-    });
-  }
+  void SetUp() override { store_ = testing::OpenStoreWithMaps(db_.location(), {"home", "other"}); }
   static InstanceRecord Object(const std::string& map, const std::string& labels) {
     InstanceRecord r;
     r.map_id = map;

@@ -17,6 +17,7 @@
 #include "storage/scene_repository.h"
 #include "storage/store.h"
 #include "tests/support/pg_scratch.h"
+#include "tests/support/test_store.h"
 
 namespace anchordb::storage::forget_test {
 
@@ -70,13 +71,7 @@ inline std::int64_t Count(Connection& c, const std::string& sql) {
 
 class ForgetFixture : public ::testing::TestWithParam<Engine> {
  protected:
-  void SetUp() override {
-    StoreOptions o;
-    o.path = db_.location();
-    o.reader_connections = 1;
-    store_ = std::make_unique<Store>(o);
-    store_->Write([](Connection& c) { InsertMap(c, {"home", "test", 1}); });
-  }
+  void SetUp() override { store_ = testing::OpenStoreWithMaps(db_.location(), {"home"}); }
 
   std::int64_t Scene(const std::string& status, std::optional<std::int64_t> ended_ns,
                      std::optional<std::int64_t> superseded_by, std::size_t state_bytes = 3000,

@@ -13,6 +13,7 @@
 #include "storage/store.h"
 #include "tests/support/pg_scratch.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/test_store.h"
 
 namespace anchordb::storage {
 namespace {
@@ -21,16 +22,7 @@ using namespace std::string_literals;
 
 class RepositoryRoundTripTest : public ::testing::TestWithParam<Engine> {
  protected:
-  void SetUp() override {
-    StoreOptions o;
-    o.path = db_.location();
-    o.reader_connections = 1;
-    store_ = std::make_unique<Store>(o);
-    store_->Write([](Connection& c) {
-      InsertMap(c, {"home", "home", 1});
-      InsertMap(c, {"other", "other", 1});
-    });
-  }
+  void SetUp() override { store_ = testing::OpenStoreWithMaps(db_.location(), {"home", "other"}); }
   std::int64_t NewInstance(const std::string& map, const std::string& kind) {
     return store_->Write([&](Connection& c) {
       InstanceRecord r;
