@@ -205,18 +205,6 @@ Json ToJson(const Polygon2& polygon) {
   return out;
 }
 
-bool IsValidId(std::string_view id) {
-  if (id.empty() || id.size() > 64 || id.front() == '.') return false;
-  for (char c : id) {
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.')) return false;
-  }
-  return true;
-}
-
-void CheckId(std::string_view id, const std::string& field) {
-  if (!IsValidId(id)) Invalid(field, "must be 1-64 characters of [A-Za-z0-9_.-], not starting with '.'");
-}
-
 std::string RequireId(const Json& j, const std::string& key, const std::string& path) {
   std::string id = RequireString(j, key, 64, path);
   CheckId(id, Join(path, key));

@@ -11,6 +11,7 @@
 #include <string>
 #include <string_view>
 
+#include "schema/ids.h"
 #include "schema/types.h"
 
 namespace anchordb::json {
@@ -50,10 +51,8 @@ std::vector<Polygon2> AsPolygons(const Json& v, const std::string& field, std::s
                                  std::size_t max_vertices);
 Json ToJson(const Polygon2& polygon);
 
-// Identifiers of maps, layers, agents: 1-64 characters of [A-Za-z0-9_.-], not starting with '.'.
-bool IsValidId(std::string_view id);
+// An identifier read from a body: a string that IsValidId (schema/ids.h).
 std::string RequireId(const Json& j, const std::string& key, const std::string& path = {});
-void CheckId(std::string_view id, const std::string& field);
 
 Json ToJson(const GridGeometry& geometry);
 Json ToJson(const LogOddsParams& params);

@@ -10,7 +10,6 @@
 #include "engine/events/keyframe_analysis.h"
 #include "engine/scene/projection.h"
 #include "schema/error.h"
-#include "schema/json_io.h"
 #include "services/common/stored_pose.h"
 #include "services/events/event_analysis_internal.h"
 #include "services/events/event_records_internal.h"
@@ -19,7 +18,6 @@
 namespace anchordb::services {
 
 using namespace events_internal;
-using json::Json;
 
 namespace {
 

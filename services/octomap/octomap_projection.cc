@@ -3,7 +3,7 @@
 #include <set>
 
 #include "schema/error.h"
-#include "schema/json_io.h"
+#include "schema/ids.h"
 #include "services/octomap/octomap_service.h"
 
 namespace anchordb::services {

@@ -111,7 +111,8 @@ MergeCaseResult RunMergeCase(sim::Setting setting, MergeCase c, std::uint64_t se
     for (std::size_t i = 0; i < f.object_id.size(); ++i) n += f.object_id[i] == id && f.depth_mm[i] != 0;
     return n;
   };
-  for (const auto& [phase, id] : script.hidden) {
+  for (const auto& hidden : script.hidden) {
+    const int phase = hidden.first, id = hidden.second;  // named, not bound: clang 14 cannot capture a binding
     // An object hidden at a viewpoint where it is absent (added later) is checked in the scene where it is present.
     const sim::Scene& present = script.phases.back().Last();
     const sim::Scene& at = script.phases[static_cast<std::size_t>(phase)].Last();
