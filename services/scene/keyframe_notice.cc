@@ -10,7 +10,6 @@
 namespace anchordb::services {
 
 using namespace scene_detail;
-namespace docs = scene_documents;
 
 std::optional<KeyframeNotice> LoadKeyframeNotice(storage::Connection& c, const std::string& map, std::int64_t keyframe_id) {
   const auto k = storage::FindKeyframe(c, map, keyframe_id, true);
@@ -26,7 +25,7 @@ std::optional<KeyframeNotice> LoadKeyframeNotice(storage::Connection& c, const s
   n.action_layer = k->action_layer;
   n.K = scene->camera;
   n.beta = scene->beta;
-  const MergeReport merge = docs::MergeReportFromDocument(json::Json::parse(scene->merge_report_json));
+  const MergeReport merge = scene_stored::DecodeMergeReport(scene->merge_report_json, scene->id);
   const auto& corrected = merge.X_MapCamera_corrected;
   n.X_MapCamera = engine::ToIsometry(corrected ? UnitPose(*corrected) : StoredPose(*scene));
   for (const MergedModel& used : merge.models_used) n.merged_scenes.push_back(used.scene_id);

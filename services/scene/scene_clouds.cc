@@ -10,7 +10,6 @@
 namespace anchordb::services {
 
 using namespace scene_detail;
-namespace docs = scene_documents;
 
 ExportedLayer SceneService::LayerCloud(const std::string& map, std::int64_t id, SceneLayerKind layer, bool map_frame,
                                        engine::CloudFormat format) {

@@ -21,33 +21,6 @@ std::vector<std::uint32_t> ShapeOf(const PinholeIntrinsics& K) {
   return {static_cast<std::uint32_t>(K.height), static_cast<std::uint32_t>(K.width)};
 }
 
-struct ModelAfter {
-  engine::FrameCounts counts;
-  engine::SettleState settle;
-};
-
-ModelAfter ParseModelAfter(const std::string& text, std::int64_t scene, std::int64_t frame) {
-  try {
-    const json::Json j = json::Json::parse(text);
-    ModelAfter a;
-    const json::Json& c = j.at("counts");
-    a.counts.supported = c.at("supported").get<std::size_t>();
-    a.counts.reset = c.at("reset").get<std::size_t>();
-    a.counts.movable = c.at("movable").get<std::size_t>();
-    a.counts.dynamic = c.at("dynamic").get<std::size_t>();
-    a.counts.no_depth = c.at("no_depth").get<std::size_t>();
-    const json::Json& s = j.at("settle");
-    a.settle.movable_at_keyframe = s.at("movable_at_keyframe").get<std::int64_t>();
-    a.settle.reset_since_keyframe = s.at("reset_since_keyframe").get<std::int64_t>();
-    a.settle.previous_movable = s.at("previous_movable").get<std::int64_t>();
-    a.settle.stable_frames = s.at("stable_frames").get<int>();
-    return a;
-  } catch (const json::Json::exception& e) {
-    throw Error(ErrorCode::kInternal, "journalled frame " + std::to_string(frame) + " of scene " + std::to_string(scene) +
-                                          " has an unreadable model_after: " + e.what());
-  }
-}
-
 // The journalled depth and mask, decoded as when the frame arrived.
 std::pair<std::vector<std::uint16_t>, std::vector<std::uint8_t>> DecodeRow(const storage::JournalFrame& row,
                                                                             const PinholeIntrinsics& K, bool with_mask) {
@@ -110,16 +83,6 @@ storage::JournalFrame JournalRowOf(std::int64_t scene_id, const PinholeIntrinsic
   return row;
 }
 
-std::string ModelAfterJson(const engine::FrameCounts& c, const engine::SettleDetector& settle) {
-  const engine::SettleState& s = settle.state();
-  return json::Json{{"counts", {{"supported", c.supported}, {"reset", c.reset}, {"movable", c.movable},
-                                {"dynamic", c.dynamic}, {"no_depth", c.no_depth}}},
-                    {"settle", {{"movable_at_keyframe", s.movable_at_keyframe},
-                                {"reset_since_keyframe", s.reset_since_keyframe},
-                                {"previous_movable", s.previous_movable}, {"stable_frames", s.stable_frames}}}}
-      .dump();
-}
-
 }  // namespace scene_detail
 
 SceneService::FrameStep SceneService::Step(const Model& m, const engine::SceneModelState& state,
@@ -148,7 +111,7 @@ SceneService::FrameStep SceneService::Step(const Model& m, const engine::SceneMo
   }
   if (journal) {
     journal->frame = state.frames;
-    journal->model_after_json = ModelAfterJson(counts, s.settle);
+    journal->model_after_json = scene_stored::EncodeModelAfter(counts, s.settle.state());
     s.journal = std::move(journal);
   }
   return s;
@@ -207,7 +170,7 @@ void SceneService::Replay(Model& m, const std::vector<storage::JournalFrame>& ro
     newest_depth = std::move(depth);
   }
   if (!newest) return;
-  const ModelAfter after = ParseModelAfter(newest->model_after_json, m.record.id, newest->frame);
+  const scene_stored::ModelAfter after = scene_stored::DecodeModelAfter(newest->model_after_json, m.record.id, newest->frame);
   m.last_counts = after.counts;
   m.settle = engine::SettleDetector(after.settle);
   m.last_depth_mm = DepthMillimetres(newest_depth, newest->depth_scale);

@@ -7,7 +7,6 @@
 namespace anchordb::services {
 
 using namespace scene_detail;
-namespace docs = scene_documents;
 
 namespace {
 
@@ -27,7 +26,7 @@ SceneInfo InfoFromRecord(const storage::SceneRecord& r) {
   info.X_MapCamera = r.pose;
   info.pose_covariance_map = scene_pose::FromDocument(r.pose_covariance_json);
   info.params = StoredParams(r);
-  info.merge = docs::MergeReportFromDocument(json::Json::parse(r.merge_report_json));
+  info.merge = scene_stored::DecodeMergeReport(r.merge_report_json, r.id);
   info.started_ns = r.started_ns;
   info.ended_ns = r.ended_ns;
   info.last_frame_ns = r.last_frame_ns;

@@ -8,7 +8,6 @@
 namespace anchordb::services {
 
 using namespace scene_detail;
-namespace docs = scene_documents;
 
 namespace {
 
@@ -157,7 +156,7 @@ std::shared_ptr<SceneService::Model> SceneService::Load(const std::string& map, 
   if (!record) throw Error(ErrorCode::kNotFound, "scene " + std::to_string(id) + " does not exist in map '" + map + "'", "scene");
   model->K = record->camera;
   model->params = StoredParams(*record);
-  model->merge = docs::MergeReportFromDocument(json::Json::parse(record->merge_report_json));  // the stored text is kept
+  model->merge = scene_stored::DecodeMergeReport(record->merge_report_json, record->id);  // the stored text is kept
   model->state = engine::NewSceneModel(model->K.width, model->K.height);
   const std::size_t n = static_cast<std::size_t>(model->K.width) * model->K.height;
   if (record->state_version > 0) {
@@ -192,7 +191,7 @@ StoredKeyframe SceneService::StoreKeyframe(Model& m, KeyframeKind kind, std::int
   const storage::KeyframeRecord k = KeyframeRecordOf(m.record, m.K, m.next_action_layer, kind, stamp_ns, m.last_depth_mm, background_mm);
   engine::SettleDetector settle = m.settle;
   settle.OnKeyframe(m.last_counts.movable);
-  const std::string after = ModelAfterJson(m.last_counts, settle);
+  const std::string after = scene_stored::EncodeModelAfter(m.last_counts, settle.state());
   const std::int64_t id = store_.Write([&](storage::Connection& c) {
     const std::int64_t inserted = storage::InsertKeyframe(c, k);
     EnqueueAnalysis(c, m, inserted);

@@ -7,7 +7,7 @@
 
 #include "engine/scene/scene_model.h"
 #include "schema/error.h"
-#include "services/scene/scene_documents_internal.h"
+#include "services/scene/scene_stored_documents.h"
 #include "services/scene/scene_service.h"
 #include "storage/blob_codec.h"
 #include "storage/frame_journal.h"
@@ -106,7 +106,7 @@ struct SceneService::Model {
 
   void SetMergeReport(MergeReport report) {
     merge = std::move(report);
-    record.merge_report_json = scene_documents::MergeReportDocument(merge).dump();
+    record.merge_report_json = scene_stored::EncodeMergeReport(merge);
   }
   // `written` (a StateRecord of this model) was committed.
   void Persisted(const storage::SceneRecord& written) {
@@ -142,8 +142,6 @@ storage::KeyframeRecord KeyframeRecordOf(const storage::SceneRecord& scene, cons
 // The journal row of a validated frame (without frame number and model_after: SceneService::Step sets them).
 storage::JournalFrame JournalRowOf(std::int64_t scene_id, const PinholeIntrinsics& K, const FrameInput& in,
                                    const std::vector<std::uint16_t>& depth, double scale, std::int64_t stamp_ns);
-// A journal row's model_after: what a replay cannot recompute from the checkpoint and the frames after it.
-std::string ModelAfterJson(const engine::FrameCounts& counts, const engine::SettleDetector& settle);
 
 }  // namespace scene_detail
 

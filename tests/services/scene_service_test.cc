@@ -12,6 +12,8 @@
 #include "schema/error.h"
 #include "services/grid/grid_service.h"
 #include "services/scene/scene_documents_internal.h"
+#include "services/scene/scene_stored_documents.h"
+#include "storage/connection.h"
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::services {
@@ -239,6 +241,61 @@ TEST(SceneDocumentsTest, MergeReportRoundTrips) {
   const json::Json opened = json::Json::parse(R"({"requested": false, "strategy": "algorithm2", "performed": false,
                                                   "candidates": []})");
   EXPECT_EQ(scene_documents::MergeReportDocument(scene_documents::MergeReportFromDocument(opened)).dump(), opened.dump());
+}
+
+// The journal's model-after reads back as written; stored text this release cannot read is kInternal naming the row
+// (not a parser's exception, which the API would not map to a status).
+TEST(SceneStoredDocumentsTest, ModelAfterRoundTripsAndUnreadableTextIsAnInternalErrorNamingTheRow) {
+  engine::FrameCounts counts;
+  counts.supported = 11;
+  counts.reset = 12;
+  counts.movable = 13;
+  counts.dynamic = 14;
+  counts.no_depth = 15;
+  engine::SettleState settle;
+  settle.movable_at_keyframe = 21;
+  settle.reset_since_keyframe = 22;
+  settle.previous_movable = 23;
+  settle.stable_frames = 4;
+  const scene_stored::ModelAfter back =
+      scene_stored::DecodeModelAfter(scene_stored::EncodeModelAfter(counts, settle), 7, 9);
+  EXPECT_EQ(back.counts.supported, 11u);
+  EXPECT_EQ(back.counts.reset, 12u);
+  EXPECT_EQ(back.counts.movable, 13u);
+  EXPECT_EQ(back.counts.dynamic, 14u);
+  EXPECT_EQ(back.counts.no_depth, 15u);
+  EXPECT_EQ(back.settle.movable_at_keyframe, 21);
+  EXPECT_EQ(back.settle.reset_since_keyframe, 22);
+  EXPECT_EQ(back.settle.previous_movable, 23);
+  EXPECT_EQ(back.settle.stable_frames, 4);
+  const auto message_of = [](const std::function<void()>& f) -> std::string {
+    try {
+      f();
+    } catch (const Error& e) {
+      return e.code() == ErrorCode::kInternal ? e.what() : "another code";
+    }
+    return "no error";
+  };
+  EXPECT_NE(message_of([] { scene_stored::DecodeModelAfter(R"({"counts": {}})", 7, 9); }).find("frame 9 of scene 7"),
+            std::string::npos);
+  EXPECT_NE(message_of([] { scene_stored::DecodeMergeReport("{broken", 7); }).find("scene 7"), std::string::npos);
+}
+
+TEST_F(SceneServiceTest, AnUnreadableStoredMergeReportIsAnInternalErrorNotACrash) {
+  const std::int64_t id = scenes_->Open("home", At({0, 0, 1})).id;
+  scenes_->Close("home", id);
+  store_->Write([&](storage::Connection& c) {
+    storage::Statement(c, "UPDATE scene_models SET merge_report = '{broken' WHERE id = ?").Bind(1, id).Run();
+    return 0;
+  });
+  SceneService fresh(*store_, SceneLimits{}, MergeSettings{}, clock_);
+  try {
+    fresh.Get("home", id);
+    ADD_FAILURE() << "an unreadable merge report was read";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInternal);
+    EXPECT_NE(std::string(e.what()).find("merge report"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
