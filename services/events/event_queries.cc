@@ -9,7 +9,6 @@
 #include "engine/events/sentences.h"
 #include "engine/events/where.h"
 #include "schema/error.h"
-#include "schema/json_io.h"
 #include "services/common/stored_pose.h"
 #include "services/events/event_details.h"
 #include "services/events/event_records_internal.h"
@@ -21,7 +20,6 @@
 namespace anchordb::services {
 
 using namespace events_internal;
-using json::Json;
 
 namespace {
 

@@ -7,13 +7,11 @@
 
 #include "engine/classification/object_labels.h"
 #include "schema/error.h"
-#include "schema/json_io.h"
+#include "services/common/stored_labels.h"
 #include "storage/blob_codec.h"
 #include "storage/repositories.h"
 
 namespace anchordb::services::events_internal {
-
-using json::Json;
 
 namespace {
 
@@ -26,9 +24,9 @@ std::vector<T> DecodeArray(const std::string& blob, storage::BlobElement element
 
 }  // namespace
 
-engine::LabelWeights DecodeLabels(const std::string& labels_json) { return Json::parse(labels_json).get<engine::LabelWeights>(); }
+engine::LabelWeights DecodeLabels(const std::string& labels_json) { return DecodeLabelWeights(labels_json, "an instance"); }
 
-std::string EncodeLabels(const engine::LabelWeights& weights) { return Json(weights).dump(); }
+std::string EncodeLabels(const engine::LabelWeights& weights) { return EncodeLabelWeights(weights); }
 
 std::string EncodePoints(const std::vector<Eigen::Vector3f>& points) {
   std::vector<float> flat;
@@ -68,7 +66,7 @@ EventView ToView(const storage::EventRecord& e) {
 InstanceView ToView(const storage::InstanceRecord& r) { return ToView(r, std::nullopt); }
 
 engine::LabelWeights DecodeDistribution(const storage::InstanceClassificationRecord& r) {
-  return Json::parse(r.distribution_json).get<engine::LabelWeights>();
+  return DecodeLabelWeights(r.distribution_json, "the classification of instance " + std::to_string(r.instance_id));
 }
 
 InstanceView ViewOf(storage::Connection& c, const storage::InstanceRecord& r) {

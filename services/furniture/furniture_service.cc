@@ -2,12 +2,11 @@
 
 #include <algorithm>
 
-#include <nlohmann/json.hpp>
-
 #include "services/furniture/furniture_service_internal.h"
 #include "engine/grounding/ambiguity.h"
 #include "engine/grounding/orientation_prior.h"
 #include "engine/grounding/readings.h"
+#include "services/common/stored_labels.h"
 #include "services/furniture/hypotheses_records.h"
 #include "storage/event_repository.h"
 #include "storage/repositories.h"
@@ -29,19 +28,17 @@ std::vector<FurniturePieceRequest> PiecesFromInstances(storage::Store& store, co
     f.kind = "furniture";
     f.limit = 100000;
     for (const auto& r : storage::ListInstances(c, map, f, false)) {
-      const nlohmann::json labels = nlohmann::json::parse(r.labels_json, nullptr, false);
+      const engine::LabelWeights labels = ReadLabelWeights(r.labels_json).value_or(engine::LabelWeights{});
       FurniturePieceRequest piece;
       piece.id = "f" + std::to_string(r.id);
       piece.position_m = Eigen::Vector2d(r.position[0], r.position[1]);
       piece.extent_m = Eigen::Vector2d(r.extent[0], r.extent[1]);
       piece.yaw_rad = r.yaw_rad;
       double sum = 0.0;
-      if (labels.is_object()) {
-        for (const auto& [word, weight] : labels.items()) {
-          if (!weight.is_number() || table.IndexOfWord(word) < 0) continue;
-          piece.categories.push_back({word, weight.get<double>()});
-          sum += weight.get<double>();
-        }
+      for (const auto& [word, weight] : labels) {
+        if (table.IndexOfWord(word) < 0) continue;
+        piece.categories.push_back({word, weight});
+        sum += weight;
       }
       if (sum > 0.0) out.push_back(std::move(piece));
     }

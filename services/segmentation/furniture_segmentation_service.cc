@@ -1,7 +1,5 @@
 #include "services/segmentation/furniture_segmentation_service.h"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,6 +12,7 @@
 #include "schema/error.h"
 #include "services/common/cloud_bytes.h"
 #include "services/common/require.h"
+#include "services/common/stored_labels.h"
 #include "services/scene/keyframe_listener.h"
 #include "storage/blob_codec.h"
 #include "storage/event_repository.h"
@@ -21,7 +20,6 @@
 
 namespace anchordb::services {
 
-using Json = nlohmann::json;  // at namespace scope, as in segmentation_request.cc (one unity batch may hold both)
 
 namespace {
 namespace seg = engine::segmentation;
@@ -43,14 +41,7 @@ std::vector<Eigen::Vector3f> DecodeCloudBlob(const std::string& blob) {
 }
 
 std::map<std::string, double> Labels(const std::string& text) {
-  const Json j = Json::parse(text, nullptr, false);
-  std::map<std::string, double> out;
-  if (j.is_object()) {
-    for (const auto& [k, v] : j.items()) {
-      if (v.is_number()) out[k] = v.get<double>();
-    }
-  }
-  return out;
+  return ReadLabelWeights(text).value_or(engine::LabelWeights{});
 }
 
 bool IsPerceived(const storage::InstanceRecord& r, const std::set<std::int64_t>& perceived) { return perceived.count(r.id) > 0; }
@@ -80,8 +71,7 @@ FurnitureInstanceView ViewOf(const storage::InstanceRecord& r, const std::option
     v.min_z_m = f->min_z_m;
     v.height_m = f->height_m;
     v.classifier = f->classifier;
-    const Json e = Json::parse(f->evidence_json, nullptr, false);
-    if (e.is_array()) v.evidence = e.get<std::vector<std::int64_t>>();
+    v.evidence = EvidenceFromDocument(f->evidence_json);
     v.observations = f->observations;
   } else {
     v.min_z_m = r.position[2] - 0.5 * r.extent[2];
@@ -132,19 +122,7 @@ FurnitureSegmentationService::FurnitureSegmentationService(storage::Store& store
       core->staging->clouds.erase(it);
     }
     const SegmentationOutcome out = RunSegmentation(*core, *job.map(), request, job.id(), &staged);
-    Json segments = Json::array();
-    for (const SegmentOutcome& s : out.segments) {
-      segments.push_back({{"action", s.action}, {"furniture", s.instance.id}, {"label", s.instance.label},
-                          {"label_probability", s.instance.label_probability}, {"classifier", s.instance.classifier},
-                          {"position_m", {s.instance.position_m.x(), s.instance.position_m.y()}},
-                          {"extent_m", {s.instance.extent_m.x(), s.instance.extent_m.y()}}, {"yaw_rad", s.instance.yaw_rad},
-                          {"height_m", s.instance.height_m}, {"points", s.instance.points},
-                          {"cloud", "/v1/maps/" + *job.map() + "/furniture/" + std::to_string(s.instance.id) + "/cloud"}});
-    }
-    return Json{{"source", out.source}, {"shape_model", out.shape_model ? Json(*out.shape_model) : Json()},
-                {"octomap_truncated", out.octomap_truncated}, {"bridges_cut", out.bridges_cut}, {"input_points", out.input_points}, {"thinned_points", out.thinned_points}, {"remaining_points", out.remaining_points},
-                {"planes", out.planes}, {"small_clusters", out.small_clusters}, {"flying_dropped", out.flying_dropped},
-                {"floor_z_m", out.floor_z_m ? Json(*out.floor_z_m) : Json()}, {"segments", segments}, {"seconds", out.seconds}}.dump();
+    return SegmentationResultDocument(out, *job.map());
   };
   jobs_.Register(std::move(kind));
 }
@@ -327,8 +305,7 @@ SegmentOutcome WriteSegment(storage::Connection& c, const InstanceWrite& w, cons
   if (update) {
     inst = known[static_cast<std::size_t>(best)];
     fr = *storage::FindFurnitureInstance(c, w.map, inst.id, false);
-    const Json e = Json::parse(fr.evidence_json, nullptr, false);
-    if (e.is_array()) for (const auto& id : e) evidence.insert(id.get<std::int64_t>());
+    for (const std::int64_t id : EvidenceFromDocument(fr.evidence_json)) evidence.insert(id);
     labels = seg::AverageCategoryShares(Labels(inst.labels_json), static_cast<double>(fr.observations), w.category_ids, classes.p);
     fr.observations += 1;
   } else {
@@ -339,7 +316,7 @@ SegmentOutcome WriteSegment(storage::Connection& c, const InstanceWrite& w, cons
     fr.created_ns = w.now_ns;
     fr.observations = 1;
   }
-  inst.labels_json = Json(labels).dump();
+  inst.labels_json = EncodeLabelWeights(labels);
   inst.label_locked = false;
   inst.status = "present";
   inst.position[0] = s.footprint.centre_m.x();
@@ -364,7 +341,7 @@ SegmentOutcome WriteSegment(storage::Connection& c, const InstanceWrite& w, cons
   fr.classifier = w.classifier;
   fr.min_z_m = s.footprint.min_z_m;
   fr.height_m = s.footprint.height_m();
-  fr.evidence_json = Json(std::vector<std::int64_t>(evidence.begin(), evidence.end())).dump();
+  fr.evidence_json = EvidenceDocument(std::vector<std::int64_t>(evidence.begin(), evidence.end()));
   fr.job_id = w.job_id;
   fr.cloud = EncodeCloudBlob(s.points_m);
   fr.updated_ns = w.now_ns;

@@ -1,4 +1,5 @@
-// The stored form of a segmentation request (the job's request document) and its checks.
+// The stored documents of the segmentation capability -- the job's request and result documents and a furniture
+// instance's evidence list -- and the request's checks: the one file of services/segmentation that writes JSON.
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -116,6 +117,37 @@ std::vector<Eigen::Vector3f> DecodeRoomCloud(const std::string& bytes, bool skip
     }
   }
   if (out.empty()) throw Error(ErrorCode::kUnprocessable, "the room cloud has no finite points", "body");
+  return out;
+}
+
+std::string SegmentationResultDocument(const SegmentationOutcome& out, const std::string& map) {
+  Json segments = Json::array();
+  for (const SegmentOutcome& s : out.segments) {
+    segments.push_back({{"action", s.action}, {"furniture", s.instance.id}, {"label", s.instance.label},
+                        {"label_probability", s.instance.label_probability}, {"classifier", s.instance.classifier},
+                        {"position_m", {s.instance.position_m.x(), s.instance.position_m.y()}},
+                        {"extent_m", {s.instance.extent_m.x(), s.instance.extent_m.y()}}, {"yaw_rad", s.instance.yaw_rad},
+                        {"height_m", s.instance.height_m}, {"points", s.instance.points},
+                        {"cloud", "/v1/maps/" + map + "/furniture/" + std::to_string(s.instance.id) + "/cloud"}});
+  }
+  return Json{{"source", out.source}, {"shape_model", out.shape_model ? Json(*out.shape_model) : Json()},
+              {"octomap_truncated", out.octomap_truncated}, {"bridges_cut", out.bridges_cut},
+              {"input_points", out.input_points}, {"thinned_points", out.thinned_points},
+              {"remaining_points", out.remaining_points}, {"planes", out.planes}, {"small_clusters", out.small_clusters},
+              {"flying_dropped", out.flying_dropped}, {"floor_z_m", out.floor_z_m ? Json(*out.floor_z_m) : Json()},
+              {"segments", segments}, {"seconds", out.seconds}}
+      .dump();
+}
+
+std::string EvidenceDocument(const std::vector<std::int64_t>& keyframes) { return Json(keyframes).dump(); }
+
+std::vector<std::int64_t> EvidenceFromDocument(const std::string& text) {
+  const Json j = Json::parse(text, nullptr, false);
+  std::vector<std::int64_t> out;
+  if (!j.is_array()) return out;
+  for (const Json& id : j) {
+    if (id.is_number_integer()) out.push_back(id.get<std::int64_t>());
+  }
   return out;
 }
 
