@@ -178,7 +178,8 @@ void DeleteKeyframes(Connection& c, ForgetReport& r, std::int64_t cutoff, const 
 // bytes for the typed camera, pose and parameter columns and the row's own overhead).
 void DeleteEmptyModels(Connection& c, ForgetReport& r, const ForgetProgress& progress) {
   Statement select(c,
-                   "SELECT m.id, length(m.merge_report) + COALESCE(length(m.pose_covariance), 0) + 280 "
+                   "SELECT m.id, length(m.merge_report) + COALESCE(length(m.pose_covariance), 0) + "
+                   "COALESCE(length(m.pose_covariance_f64), 0) + 280 "
                    "FROM scene_models m WHERE m.map_id = ? AND m.status = 'superseded' AND m.forgotten_ns IS NOT NULL "
                    "AND NOT EXISTS (SELECT 1 FROM keyframes k WHERE k.scene_id = m.id) ORDER BY m.id");
   select.Bind(1, r.map_id);

@@ -1,7 +1,10 @@
 #include "storage/scene_repository.h"
 
-#include "storage/dialect.h"
+#include <cctype>
+#include <charconv>
 
+#include "storage/blob_codec.h"
+#include "storage/dialect.h"
 #include "schema/error.h"
 
 namespace anchordb::storage {
@@ -10,7 +13,53 @@ namespace {
 constexpr const char* kSceneColumns =
     "id, map_id, status, superseded_by, width_px, height_px, fx_px, fy_px, cx_px, cy_px, x_m, y_m, z_m, qx, qy, qz, qw, "
     "beta, dynamic_mode, depth_scale, merge_report, started_ns, ended_ns, last_frame_ns, frames, state_version, "
-    "forgotten_ns, pose_covariance";
+    "forgotten_ns, pose_covariance, pose_covariance_f64";
+
+using Covariance = std::array<double, 36>;
+
+std::string EncodeCovariance(const Covariance& row_major) {
+  return EncodeBlob(BlobElement::kF64, {6, 6}, std::string_view(reinterpret_cast<const char*>(row_major.data()), sizeof row_major));
+}
+
+std::optional<Covariance> DecodeCovariance(std::string_view blob) {
+  std::optional<std::vector<double>> v;
+  try {
+    v = DecodeArray<double>(blob, BlobElement::kF64, 36);
+  } catch (const Error&) {  // not an envelope
+    return std::nullopt;
+  }
+  if (!v) return std::nullopt;
+  Covariance out;
+  std::copy(v->begin(), v->end(), out.begin());
+  return out;
+}
+
+// The column of schemas 0010-0017: a JSON array of 36 numbers, as nlohmann-json wrote it. Read as what it is, a
+// bracketed list of numbers separated by commas (blanks allowed); anything else reads as no covariance.
+std::optional<Covariance> ReadLegacyCovariance(std::string_view text) {
+  std::size_t at = 0;
+  const auto skip_blanks = [&] {
+    while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at]))) ++at;
+  };
+  const auto expect = [&](char ch) {
+    skip_blanks();
+    if (at == text.size() || text[at] != ch) return false;
+    ++at;
+    return true;
+  };
+  Covariance out;
+  if (!expect('[')) return std::nullopt;
+  for (std::size_t n = 0; n < out.size(); ++n) {
+    if (n > 0 && !expect(',')) return std::nullopt;
+    skip_blanks();
+    const auto [end, ec] = std::from_chars(text.data() + at, text.data() + text.size(), out[n]);
+    if (ec != std::errc()) return std::nullopt;
+    at = static_cast<std::size_t>(end - text.data());
+  }
+  if (!expect(']')) return std::nullopt;
+  skip_blanks();
+  return at == text.size() ? std::optional<Covariance>(out) : std::nullopt;
+}
 
 SceneRecord ReadScene(Statement& s, bool with_state) {
   SceneRecord r;
@@ -31,11 +80,12 @@ SceneRecord ReadScene(Statement& s, bool with_state) {
   r.frames = s.Int(24);
   r.state_version = s.Int(25);
   r.forgotten_ns = OptionalInt(s, 26);
-  if (!s.IsNull(27)) r.pose_covariance_json = s.Text(27);
+  if (!s.IsNull(28)) r.pose_covariance = DecodeCovariance(s.Blob(28));
+  else if (!s.IsNull(27)) r.pose_covariance = ReadLegacyCovariance(s.Text(27));
   if (with_state) {
-    r.background = s.Blob(28);
-    r.weight = s.Blob(29);
-    r.labels = s.Blob(30);
+    r.background = s.Blob(29);
+    r.weight = s.Blob(30);
+    r.labels = s.Blob(31);
   }
   return r;
 }
@@ -44,7 +94,7 @@ SceneRecord ReadScene(Statement& s, bool with_state) {
 
 std::int64_t InsertScene(Connection& c, const SceneRecord& r) {
   Statement s(c, "INSERT INTO scene_models (map_id, status, width_px, height_px, fx_px, fy_px, cx_px, cy_px, x_m, y_m, "
-                 "z_m, qx, qy, qz, qw, beta, dynamic_mode, depth_scale, merge_report, started_ns, pose_covariance) "
+                 "z_m, qx, qy, qz, qw, beta, dynamic_mode, depth_scale, merge_report, started_ns, pose_covariance_f64) "
                  "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING id");
   const Eigen::Vector3d& t = r.pose.position_m;
   const Eigen::Quaterniond& q = r.pose.orientation;
@@ -52,8 +102,8 @@ std::int64_t InsertScene(Connection& c, const SceneRecord& r) {
       .Bind(5, r.camera.fx).Bind(6, r.camera.fy).Bind(7, r.camera.cx).Bind(8, r.camera.cy).Bind(9, t.x()).Bind(10, t.y())
       .Bind(11, t.z()).Bind(12, q.x()).Bind(13, q.y()).Bind(14, q.z()).Bind(15, q.w()).Bind(16, r.beta)
       .Bind(17, r.dynamic_mode).Bind(18, r.depth_scale).Bind(19, r.merge_report_json).Bind(20, r.started_ns);
-  if (r.pose_covariance_json.empty()) s.BindNull(21);
-  else s.Bind(21, r.pose_covariance_json);
+  if (r.pose_covariance) s.BindBlob(21, EncodeCovariance(*r.pose_covariance));
+  else s.BindNull(21);
   return s.RunReturningId();
 }
 

@@ -1,5 +1,6 @@
 #pragma once
 // SQL for scene models and keyframes.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -30,8 +31,10 @@ struct SceneRecord {
   std::int64_t frames = 0;
   std::int64_t state_version = 0;
   std::optional<std::int64_t> forgotten_ns;  // forgetting dropped the state of this superseded model
-  // The camera pose's covariance (map frame, 36 numbers row-major as JSON); empty: not given (the default applies).
-  std::string pose_covariance_json;
+  // The camera pose's covariance (map frame, 6x6 row-major, ROS order [tx ty tz rx ry rz], m and rad); nullopt: not
+  // given or unreadable (the default applies). Stored in the blob envelope (f64 {6, 6}, migration 0018); a row of
+  // an earlier schema holds a JSON array of 36 numbers, which still reads.
+  std::optional<std::array<double, 36>> pose_covariance;
   // State blobs; empty when not loaded or never persisted.
   std::string background;
   std::string weight;

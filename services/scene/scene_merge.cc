@@ -110,7 +110,7 @@ SceneService::PriorSnapshot SceneService::ReadPriors(const Model& m) {
       prior.K = full->camera;
       s.poses.push_back(StoredPose(*full));
       prior.X_MapCamera = engine::ToIsometry(s.poses.back());
-      prior.pose_covariance_map = scene_pose::StoredOrDefault(full->pose_covariance_json, merge_);
+      prior.pose_covariance_map = scene_pose::StoredOrDefault(full->pose_covariance, merge_);
       prior.background_m = DecodeAs<float>(full->background, BlobElement::kF32, static_cast<std::size_t>(prior.K.width) * prior.K.height);
       s.priors.push_back(std::move(prior));
     }
@@ -127,7 +127,7 @@ FrameResult SceneService::AddMergingFrame(Model& m, const std::vector<std::uint1
   params.beta = m.params.model.beta;
   params.frustum_far_m = merge_.frustum_far_m;
   params.strategy = m.merge.strategy;
-  params.current_pose_covariance_map = scene_pose::StoredOrDefault(m.record.pose_covariance_json, merge_);
+  params.current_pose_covariance_map = scene_pose::StoredOrDefault(m.record.pose_covariance, merge_);
   // Read, merge without holding the write lock, then commit if the earlier models are still as read; the merge is
   // redone once from a fresh read if they changed meanwhile. The merged state is checkpointed with the frame (its
   // journal row, its begin keyframe) in one transaction, so a replay never merges again.

@@ -5,7 +5,6 @@
 #include <numbers>
 
 #include "schema/error.h"
-#include "schema/json_io.h"
 
 namespace anchordb::services::scene_pose {
 
@@ -67,26 +66,21 @@ engine::Matrix6d Resolve(const OpenSceneRequest& request, const MergeSettings& s
   return engine::PoseCovarianceFromSigma(settings.pose_sigma_translation_m, settings.pose_sigma_rotation_rad);
 }
 
-std::string Document(const engine::Matrix6d& covariance) {
-  json::Json out = json::Json::array();
-  for (int i = 0; i < 36; ++i) out.push_back(covariance(i / 6, i % 6));
-  return out.dump();
+std::array<double, 36> RowMajor(const engine::Matrix6d& covariance) {
+  std::array<double, 36> out;
+  for (int i = 0; i < 36; ++i) out[i] = covariance(i / 6, i % 6);
+  return out;
 }
 
-std::optional<engine::Matrix6d> FromDocument(const std::string& document) {
-  if (document.empty()) return std::nullopt;
-  const json::Json j = json::Json::parse(document, nullptr, false);
-  if (!j.is_array() || j.size() != 36) return std::nullopt;
+std::optional<engine::Matrix6d> FromStored(const std::optional<std::array<double, 36>>& row_major) {
+  if (!row_major) return std::nullopt;
   engine::Matrix6d c;
-  for (int i = 0; i < 36; ++i) {
-    if (!j[i].is_number()) return std::nullopt;
-    c(i / 6, i % 6) = j[i].get<double>();
-  }
+  for (int i = 0; i < 36; ++i) c(i / 6, i % 6) = (*row_major)[i];
   return c;
 }
 
-engine::Matrix6d StoredOrDefault(const std::string& document, const MergeSettings& settings) {
-  return FromDocument(document).value_or(
+engine::Matrix6d StoredOrDefault(const std::optional<std::array<double, 36>>& row_major, const MergeSettings& settings) {
+  return FromStored(row_major).value_or(
       engine::PoseCovarianceFromSigma(settings.pose_sigma_translation_m, settings.pose_sigma_rotation_rad));
 }
 

@@ -24,7 +24,7 @@ SceneInfo InfoFromRecord(const storage::SceneRecord& r) {
   info.status = StoredValue(kSceneStatusNames, r.status, "scene status");
   info.camera = r.camera;
   info.X_MapCamera = r.pose;
-  info.pose_covariance_map = scene_pose::FromDocument(r.pose_covariance_json);
+  info.pose_covariance_map = scene_pose::FromStored(r.pose_covariance);
   info.params = StoredParams(r);
   info.merge = scene_stored::DecodeMergeReport(r.merge_report_json, r.id);
   info.started_ns = r.started_ns;

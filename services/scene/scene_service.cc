@@ -82,7 +82,7 @@ SceneInfo SceneService::Open(const std::string& map, const OpenSceneRequest& req
   r.map_id = map;
   r.camera = K;
   r.pose = pose;
-  r.pose_covariance_json = scene_pose::Document(pose_covariance);
+  r.pose_covariance = scene_pose::RowMajor(pose_covariance);
   r.beta = request.params.model.beta;
   r.dynamic_mode = NameOf(kDynamicModeNames, request.params.model.dynamic_mode);
   r.depth_scale = request.params.depth_scale;

@@ -28,7 +28,6 @@ JSON_DEBT = {
     "services/jobs/job_documents.cc",
     "services/scene/scene_documents.cc",
     "services/scene/scene_documents_internal.h",
-    "services/scene/scene_pose_covariance.cc",
     "services/segmentation/segmentation_request.cc",
     "services/shapes/shape_service.cc",
     "storage/layer_codec.cc",

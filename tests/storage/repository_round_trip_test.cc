@@ -44,8 +44,10 @@ INSTANTIATE_TEST_SUITE_P(Engines, RepositoryRoundTripTest, testing::BothEngines(
 
 TEST_P(RepositoryRoundTripTest, JobsKeepTheirFieldsStatusesAndOrder) {
   const auto [backup, forget, segment] = store_->Write([](Connection& c) {
-    return std::make_tuple(InsertJob(c, "backup", std::nullopt, R"({"label":"nightly"})", 10),
-                           InsertJob(c, "forget", "home"s, "{}", 20), InsertJob(c, "segment", "other"s, "{}", 30));
+    // One statement each, in this order (the arguments of one call are evaluated in an unspecified order).
+    const std::int64_t b = InsertJob(c, "backup", std::nullopt, R"({"label":"nightly"})", 10);
+    const std::int64_t f = InsertJob(c, "forget", "home"s, "{}", 20);
+    return std::make_tuple(b, f, InsertJob(c, "segment", "other"s, "{}", 30));
   });
   const JobRecord f = *Job(forget);
   EXPECT_EQ(f.kind, "forget");

@@ -1,8 +1,12 @@
 // Migration 0017 on both engines: a scene model written by schema 0016 (camera, pose and parameters as JSON
 // documents) reads back through the typed columns with the same numbers, a document that lacked a field takes the
-// default the server applied, and a model written after the migration round-trips its typed record.
+// default the server applied, and a model written after the migration round-trips its typed record. Migration 0018:
+// the pose covariance of schema 0017 (a JSON array) reads as the same 36 numbers, and a new one is stored in the
+// blob envelope, not as text.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <charconv>
 #include <vector>
 
 #include "storage/connection.h"
@@ -90,6 +94,60 @@ TEST_P(SceneDocumentsMigrationTest, AnUnknownDynamicModeIsRefusedByTheSchema) {
   r.map_id = "home";
   r.dynamic_mode = "sometimes";
   EXPECT_THROW(InsertScene(*c, r), std::exception);
+}
+
+std::array<double, 36> SomeCovariance() {
+  std::array<double, 36> c{};
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) c[i * 6 + j] = i == j ? 1e-4 * (i + 1) : -2.5e-7 * (i + j);
+  }
+  return c;
+}
+
+TEST_P(SceneDocumentsMigrationTest, ThePoseCovarianceOfSchema17ReadsAndANewOneIsAStoredArray) {
+  const std::unique_ptr<Connection> c = OpenConnection(db_.location(), ConnectionOptions{});
+  ApplyMigrations(*c, UpTo(GetParam(), 17));
+  InsertMap(*c, {"home", "Home", 1});
+  const std::array<double, 36> expected = SomeCovariance();
+  std::string text = "[";
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    char number[32];
+    const auto end = std::to_chars(number, number + sizeof number, expected[i]).ptr;
+    text += (i ? (i % 2 ? ", " : ",") : "") + std::string(number, end);
+  }
+  text += "]";
+  const auto legacy = [&](const std::string& covariance) {
+    Statement s(*c, "INSERT INTO scene_models (map_id, status, x_m, y_m, z_m, started_ns, pose_covariance) "
+                    "VALUES ('home', 'closed', 0, 0, 0, 1, ?) "
+                    "RETURNING id");
+    s.Bind(1, covariance);
+    return s.RunReturningId();
+  };
+  const std::int64_t written = legacy(text), truncated = legacy("[1.0, 2.0]"), garbage = legacy("{\"a\": 1}");
+  ApplyMigrations(*c, EmbeddedMigrations(GetParam()));
+
+  const std::optional<SceneRecord> a = FindScene(*c, "home", written, false);
+  ASSERT_TRUE(a.has_value());
+  ASSERT_TRUE(a->pose_covariance.has_value());
+  EXPECT_EQ(*a->pose_covariance, expected);
+  EXPECT_FALSE(FindScene(*c, "home", truncated, false)->pose_covariance.has_value());
+  EXPECT_FALSE(FindScene(*c, "home", garbage, false)->pose_covariance.has_value());
+
+  SceneRecord fresh;
+  fresh.map_id = "home";
+  fresh.started_ns = 2;
+  fresh.pose_covariance = expected;
+  const std::int64_t id = InsertScene(*c, fresh);
+  const std::optional<SceneRecord> back = FindScene(*c, "home", id, false);
+  ASSERT_TRUE(back.has_value() && back->pose_covariance.has_value());
+  EXPECT_EQ(*back->pose_covariance, expected);
+  Statement columns(*c, "SELECT pose_covariance IS NULL, pose_covariance_f64 IS NOT NULL FROM scene_models WHERE id = ?");
+  columns.Bind(1, id);
+  ASSERT_TRUE(columns.Step());
+  EXPECT_EQ(columns.Int(0), 1);  // no text
+  EXPECT_EQ(columns.Int(1), 1);  // the envelope
+  fresh.pose_covariance.reset();
+  EXPECT_FALSE(FindScene(*c, "home", InsertScene(*c, fresh), false)->pose_covariance.has_value());
 }
 
 }  // namespace
