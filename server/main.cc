@@ -279,7 +279,7 @@ int Forget(const std::vector<std::string>& args) {
   const std::int64_t now_ns = request.now_ns.value_or(SystemClock::Instance().NowNs());
   storage::ForgetReport report;
   try {
-    report = storage::Forget(connection, map, request.policy, now_ns, request.dry_run);
+    report = storage::Forget(connection, map, request.policy, services::ForgetKeepRules(), now_ns, request.dry_run);
   } catch (const Error& e) {
     if (e.code() == ErrorCode::kNotFound) throw std::invalid_argument(e.what());
     throw;

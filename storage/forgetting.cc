@@ -87,7 +87,8 @@ void DropSupersededState(Connection& c, ForgetReport& r, const ForgetProgress& p
 }
 
 // 2. Old events nobody needs.
-void DeleteEvents(Connection& c, ForgetReport& r, std::int64_t cutoff, const ForgetProgress& progress) {
+void DeleteEvents(Connection& c, ForgetReport& r, std::int64_t cutoff, const ForgetRules& rules,
+                  const ForgetProgress& progress) {
   // Latest event of an instance: the greatest (stamp_ns, id) among its events that place it (a 'labelled' event
   // names it and is kept anyway; it proves no position).
   const char* kSelect =
@@ -100,11 +101,14 @@ void DeleteEvents(Connection& c, ForgetReport& r, std::int64_t cutoff, const For
   select.Bind(1, r.map_id).Bind(2, cutoff);
   std::vector<std::int64_t> ids;
   while (select.Step()) {
-    if (select.Int(1)) ++r.events_kept_pinned;
-    else if (select.Int(2)) ++r.events_kept_labelled;
-    else if (select.Int(3)) ++r.events_kept_pinned_instance;
-    else if (select.Int(4)) ++r.events_kept_latest;
-    else ids.push_back(select.Int(0));
+    const OldEventFacts facts{select.Int(1) != 0, select.Int(2) != 0, select.Int(3) != 0, select.Int(4) != 0};
+    switch (rules.event(facts)) {
+      case EventKeep::kPinned: ++r.events_kept_pinned; break;
+      case EventKeep::kLabelled: ++r.events_kept_labelled; break;
+      case EventKeep::kInstancePinned: ++r.events_kept_pinned_instance; break;
+      case EventKeep::kLatestOfInstance: ++r.events_kept_latest; break;
+      case EventKeep::kForget: ids.push_back(select.Int(0)); break;
+    }
   }
   Stage stage(progress, "events", 0.1, 0.3, ids.size());
   std::size_t done = 0;
@@ -120,9 +124,10 @@ void DeleteEvents(Connection& c, ForgetReport& r, std::int64_t cutoff, const For
 }
 
 // 3. Old keyframes nobody needs, and their segments that no event uses.
-void DeleteKeyframes(Connection& c, ForgetReport& r, std::int64_t cutoff, const ForgetProgress& progress) {
+void DeleteKeyframes(Connection& c, ForgetReport& r, std::int64_t cutoff, const ForgetRules& rules,
+                     const ForgetProgress& progress) {
   const char* kSelect =
-      "SELECT k.id, k.pinned, CASE WHEN k.relevance >= ?3 THEN 1 ELSE 0 END, "
+      "SELECT k.id, k.pinned, k.relevance, "
       "  CASE WHEN EXISTS (SELECT 1 FROM event_evidence ev WHERE ev.keyframe_id = k.id) OR "
       "  EXISTS (SELECT 1 FROM segments s JOIN events e ON e.segment_id = s.id WHERE s.keyframe_id = k.id) THEN 1 ELSE 0 END, "
       "  CASE WHEN (m.ended_ns IS NULL OR m.status = 'observing') AND COALESCE(m.last_frame_ns, m.started_ns) >= ?2 "
@@ -131,18 +136,20 @@ void DeleteKeyframes(Connection& c, ForgetReport& r, std::int64_t cutoff, const 
       "FROM keyframes k JOIN scene_models m ON m.id = k.scene_id "
       "WHERE k.map_id = ?1 AND k.stamp_ns < ?2 ORDER BY k.id";
   Statement select(c, kSelect);
-  select.Bind(1, r.map_id).Bind(2, cutoff).Bind(3, r.policy.keep_relevance_at_least);
+  select.Bind(1, r.map_id).Bind(2, cutoff);
   std::vector<std::int64_t> ids;
   while (select.Step()) {
-    if (select.Int(1)) ++r.keyframes_kept_pinned;
-    else if (select.Int(2)) ++r.keyframes_kept_relevant;
-    else if (select.Int(3)) ++r.keyframes_kept_referenced;
-    else if (select.Int(4)) ++r.keyframes_kept_open_scene;
-    else {
-      // An open scene without a frame for longer than the keyframe age counts as abandoned (a client that crashed
-      // and never came back): its keyframes age like any others.
-      r.keyframes_of_abandoned_scenes += select.Int(5);
-      ids.push_back(select.Int(0));
+    const OldKeyframeFacts facts{select.Int(1) != 0, select.Double(2), select.Int(3) != 0, select.Int(5) != 0,
+                                 select.Int(4) != 0};
+    switch (rules.keyframe(facts, r.policy.keep_relevance_at_least)) {
+      case KeyframeKeep::kPinned: ++r.keyframes_kept_pinned; break;
+      case KeyframeKeep::kRelevant: ++r.keyframes_kept_relevant; break;
+      case KeyframeKeep::kReferenced: ++r.keyframes_kept_referenced; break;
+      case KeyframeKeep::kOpenScene: ++r.keyframes_kept_open_scene; break;
+      case KeyframeKeep::kForget:
+        r.keyframes_of_abandoned_scenes += facts.scene_open ? 1 : 0;  // left observing, no frame within the age
+        ids.push_back(select.Int(0));
+        break;
     }
   }
   Stage stage(progress, "keyframes", 0.3, 0.85, ids.size());
@@ -284,8 +291,10 @@ std::int64_t DatabaseFileBytes(const std::string& path) {
   return total;
 }
 
-ForgetReport Forget(Connection& c, const std::string& map_id, const ForgetPolicy& policy, std::int64_t now_ns,
-                    bool dry_run, const ForgetProgress& progress, const ForgetBeforeCommit& before_commit) {
+ForgetReport Forget(Connection& c, const std::string& map_id, const ForgetPolicy& policy, const ForgetRules& rules,
+                    std::int64_t now_ns, bool dry_run, const ForgetProgress& progress,
+                    const ForgetBeforeCommit& before_commit) {
+  if (!rules.event || !rules.keyframe) throw Error(ErrorCode::kInternal, "Forget needs both keep rules");
   if (c.InTransaction()) {
     throw Error(ErrorCode::kInternal, "Forget needs a connection outside any transaction");
   }
@@ -302,8 +311,8 @@ ForgetReport Forget(Connection& c, const std::string& map_id, const ForgetPolicy
     r.page_count_before = PageCount(c);
     r.freelist_before = FreelistCount(c);
     if (policy.drop_superseded) DropSupersededState(c, r, progress);
-    if (policy.event_max_age_s) DeleteEvents(c, r, CutoffNs(now_ns, *policy.event_max_age_s), progress);
-    if (policy.keyframe_max_age_s) DeleteKeyframes(c, r, CutoffNs(now_ns, *policy.keyframe_max_age_s), progress);
+    if (policy.event_max_age_s) DeleteEvents(c, r, CutoffNs(now_ns, *policy.event_max_age_s), rules, progress);
+    if (policy.keyframe_max_age_s) DeleteKeyframes(c, r, CutoffNs(now_ns, *policy.keyframe_max_age_s), rules, progress);
     if (policy.drop_superseded) DeleteEmptyModels(c, r, progress);
     DeduplicateFeatures(c, r);
     r.page_count_after = PageCount(c);

@@ -24,6 +24,7 @@
 #include <string_view>
 #include <vector>
 
+#include "schema/forgetting_facts.h"
 #include "storage/forget_policy.h"
 #include "storage/connection.h"
 
@@ -67,9 +68,17 @@ using ForgetProgress = std::function<void(std::string_view stage, double fractio
 // with the deletions (the job row).
 using ForgetBeforeCommit = std::function<void(Connection& c, const ForgetReport& report)>;
 
+// The keep rules a run asks for every event and keyframe older than the policy's ages: the caller passes
+// engine/forgetting/keep_rules.h's KeepEvent and KeepKeyframe (storage gathers the facts and applies the answers).
+struct ForgetRules {
+  std::function<EventKeep(const OldEventFacts&)> event;
+  std::function<KeyframeKeep(const OldKeyframeFacts&, double keep_relevance_at_least)> keyframe;
+};
+
 // `c` must not be inside a transaction (Forget opens BEGIN IMMEDIATE, and VACUUM needs none). Unknown map: kNotFound.
-ForgetReport Forget(Connection& c, const std::string& map_id, const ForgetPolicy& policy, std::int64_t now_ns,
-                    bool dry_run, const ForgetProgress& progress = {}, const ForgetBeforeCommit& before_commit = {});
+ForgetReport Forget(Connection& c, const std::string& map_id, const ForgetPolicy& policy, const ForgetRules& rules,
+                    std::int64_t now_ns, bool dry_run, const ForgetProgress& progress = {},
+                    const ForgetBeforeCommit& before_commit = {});
 
 // Size of the database file plus its WAL, in bytes (0 for a missing file).
 std::int64_t DatabaseFileBytes(const std::string& path);

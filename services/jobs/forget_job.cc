@@ -1,6 +1,7 @@
 // The "forget" job kind and JobService::SubmitForget (its stored request: services/jobs/job_documents.h).
 #include "services/jobs/forget_job.h"
 
+#include "engine/forgetting/keep_rules.h"
 #include "schema/error.h"
 #include "services/jobs/job_documents.h"
 #include "storage/forgetting.h"
@@ -33,13 +34,20 @@ std::optional<std::string> RunForget(JobContext& job, const std::string& db_path
     else job.Record(c, JobStatus::kSucceeded, "done", 1.0, &result);
   };
   const storage::ForgetReport report = storage::Forget(connection, job.map().value_or(""), request.policy,
-                                                       request.now_ns.value_or(job.NowNs()), request.dry_run, progress,
-                                                       before_commit);
+                                                       ForgetKeepRules(), request.now_ns.value_or(job.NowNs()),
+                                                       request.dry_run, progress, before_commit);
   if (request.dry_run || request.policy.vacuum) return ForgetReportDocument(report);
   return std::nullopt;  // recorded with the deletions
 }
 
 }  // namespace
+
+storage::ForgetRules ForgetKeepRules() {
+  return {[](const OldEventFacts& e) { return engine::forgetting::KeepEvent(e); },
+          [](const OldKeyframeFacts& k, double keep_relevance_at_least) {
+            return engine::forgetting::KeepKeyframe(k, keep_relevance_at_least);
+          }};
+}
 
 void CheckForgetRequest(const storage::ForgetRequest& request, std::int64_t wall_now_ns) {
   if (request.now_ns && *request.now_ns > wall_now_ns) {

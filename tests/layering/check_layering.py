@@ -43,10 +43,14 @@ FORBIDDEN = {
     "api": ("storage/", "server/"),
     "schema": ("engine/", "storage/", "services/", "api/", "server/") + HTTP,
 }
-# Decision rules moved from services/ to engine/ (issue 35), by name: the engine header declares the rule, the service
+# Decision rules moved from services/ (and the forgetting keep rules from storage/) to engine/ (issue 35), by name: the engine header declares the rule, the service
 # file calls it, and the service file no longer holds the rule's own code (a pattern of its old body).
 MOVED_RULES = (
-    # (engine header, rule, service file that uses it, pattern of the old code in services/)
+    # (engine header, rule, service file that uses it, pattern of the old code in services/ or storage/)
+    ("engine/forgetting/keep_rules.h", "KeepEvent", "services/jobs/forget_job.cc",
+     r"\+\+r\.events_kept_pinned;\s*else if"),
+    ("engine/forgetting/keep_rules.h", "KeepKeyframe", "services/jobs/forget_job.cc",
+     r"relevance\s*>=\s*\?|\+\+r\.keyframes_kept_pinned;\s*else if"),
     ("engine/segmentation/segment_decisions.h", "SegmentEvidence",
      "services/segmentation/furniture_segmentation_service.cc", r"seen\s*\*\s*5|EvidenceOf\("),
     ("engine/segmentation/segment_decisions.h", "PriorTimesVerification",
@@ -63,7 +67,7 @@ MOVED_RULES = (
 def moved_rule_problems(root):
     problems = []
     service_code = {}
-    for rel in sources(root, "services"):
+    for rel in sources(root, "services") + sources(root, "storage"):
         with open(os.path.join(root, rel), encoding="utf-8") as f:
             service_code[rel] = "\n".join(line.split("//", 1)[0] for line in f)
     for header, rule, user, old in MOVED_RULES:
@@ -125,7 +129,7 @@ def main():
                 problems.append(f"{rel} includes JSON ({module}/ may not: JSON is api/'s)")
             if not uses_json and rel in JSON_DEBT:
                 problems.append(f"{rel} no longer includes JSON: take it off JSON_DEBT in {os.path.basename(__file__)}")
-    for rel in sources(root, "services"):
+    for rel in sources(root, "services") + sources(root, "storage"):
         with open(os.path.join(root, rel), encoding="utf-8") as f:
             for number, line in enumerate(f, 1):
                 code = line.split("//", 1)[0]

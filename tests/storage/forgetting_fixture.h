@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "services/jobs/forget_job.h"
 #include "storage/event_repository.h"
 #include "storage/forgetting.h"
 #include "storage/repositories.h"
@@ -165,7 +166,7 @@ class ForgetFixture : public ::testing::TestWithParam<Engine> {
   ForgetReport Run(const ForgetPolicy& policy, bool dry_run, const ForgetProgress& progress = {},
                    const ForgetBeforeCommit& before_commit = {}) {
     auto c = OpenConnection(store_->path(), {});
-    return Forget(*c, "home", policy, kNow, dry_run, progress, before_commit);
+    return Forget(*c, "home", policy, services::ForgetKeepRules(), kNow, dry_run, progress, before_commit);
   }
 
   testing::TestDatabase db_{GetParam()};

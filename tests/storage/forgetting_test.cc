@@ -205,13 +205,13 @@ TEST_P(forgetting, UnknownMapAndOpenTransactionAreRefused) {
   auto owned = OpenConnection(store_->path(), {});
   Connection& conn = *owned;
   try {
-    Forget(conn, "nowhere", {}, kNow, false);
+    Forget(conn, "nowhere", {}, services::ForgetKeepRules(), kNow, false);
     FAIL() << "no error";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kNotFound);
   }
   conn.Exec("BEGIN");
-  EXPECT_THROW(Forget(conn, "home", {}, kNow, false), Error);
+  EXPECT_THROW(Forget(conn, "home", {}, services::ForgetKeepRules(), kNow, false), Error);
   conn.Exec("ROLLBACK");
 }
 
