@@ -165,7 +165,7 @@ engine::Observation ParseObservation(const Json& body, const ServiceLimits& limi
   }
   if (obs.range_m <= 0.0 || obs.range_m > 100.0) throw Error(ErrorCode::kUnprocessable, "range_m must be in (0, 100]", "range_m");
   if (body.contains("stamp")) json::AsStampNs(body["stamp"], "stamp");
-  obs.stimulus_M = json::AsPolygons(json::Require(body, "stimulus"), "stimulus", limits.max_polygons, limits.max_polygon_vertices);
+  obs.stimulus_map = json::AsPolygons(json::Require(body, "stimulus"), "stimulus", limits.max_polygons, limits.max_polygon_vertices);
   return obs;
 }
 
@@ -174,7 +174,7 @@ PaintLabelRequest ParsePaintLabel(const Json& body, const ServiceLimits& limits)
   PaintLabelRequest request;
   request.label = json::RequireString(body, "label", limits::kLabelLength);
   if (request.label.empty()) throw Error(ErrorCode::kInvalidArgument, "label must not be empty", "label");
-  request.polygons_M =
+  request.polygons_map =
       json::AsPolygons(json::Require(body, "polygons"), "polygons", limits.max_polygons, limits.max_polygon_vertices);
   return request;
 }

@@ -49,8 +49,8 @@ std::vector<Eigen::Vector3d> ParsePoints(const Json& body, std::size_t max_point
 services::RayRequest ParseRay(const Json& body) {
   json::RejectUnknownKeys(body, {"origin", "direction", "max_range_m", "ignore_unknown"});
   services::RayRequest r;
-  r.origin_M = AsVector3(json::Require(body, "origin"), "origin");
-  r.direction_M = AsVector3(json::Require(body, "direction"), "direction");
+  r.origin_map = AsVector3(json::Require(body, "origin"), "origin");
+  r.direction_map = AsVector3(json::Require(body, "direction"), "direction");
   r.max_range_m = json::FiniteNumberOr(body, "max_range_m", 10.0);
   r.ignore_unknown = json::BoolOr(body, "ignore_unknown", false);
   return r;
@@ -65,7 +65,7 @@ engine::Box3 ParseBox(const Json& body, std::initializer_list<std::string_view> 
     }
   }
   engine::Box3 box{AsVector3(json::Require(body, "min"), "min"), AsVector3(json::Require(body, "max"), "max")};
-  if ((box.min_M.array() > box.max_M.array()).any()) {
+  if ((box.min_map.array() > box.max_map.array()).any()) {
     throw Error(ErrorCode::kUnprocessable, "min must not lie above max on any axis", "min");
   }
   return box;
@@ -124,7 +124,7 @@ engine::CloudFormat ParseCloudFormat(const std::string& format) {
 Json ToJson(const services::OctomapInfo& i) {
   const engine::TreeMetadata& m = i.metadata;
   Json bbox = nullptr;
-  if (m.min_M && m.max_M) bbox = {{"min", Vector3Json(*m.min_M)}, {"max", Vector3Json(*m.max_M)}};
+  if (m.min_map && m.max_map) bbox = {{"min", Vector3Json(*m.min_map)}, {"max", Vector3Json(*m.max_map)}};
   return {{"map", i.map},
           {"version", i.version},
           {"resolution_m", i.params.resolution_m},
@@ -170,14 +170,14 @@ Json ToJson(const std::vector<engine::PointOccupancy>& results) {
 Json ToJson(const engine::RayHit& hit) {
   return {{"hit", hit.stopped_by == engine::VoxelState::kOccupied},
           {"stopped_by", engine::VoxelStateName(hit.stopped_by)},
-          {"end", Vector3Json(hit.end_M)},
+          {"end", Vector3Json(hit.end_map)},
           {"distance_m", hit.distance_m}};
 }
 
 Json ToJson(const services::VoxelsResult& r) {
   Json voxels = Json::array();
   for (const engine::Voxel& v : r.voxels) {
-    voxels.push_back({{"center", Vector3Json(v.center_M)},
+    voxels.push_back({{"center", Vector3Json(v.center_map)},
                       {"size_m", v.size_m},
                       {"log_odds", v.log_odds},
                       {"stamp_ns", v.stamp_ns ? Json(*v.stamp_ns) : Json(nullptr)}});

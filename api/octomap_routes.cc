@@ -55,7 +55,7 @@ void RegisterOctomapRoutes(Router& router, OctomapService& s) {
         InsertCloudRequest r;
         r.map = p["map"];
         r.body = req.body;
-        r.origin_M = QueryPoint3(req, "origin");
+        r.origin_map = QueryPoint3(req, "origin");
         r.max_range_m = OptionalQueryNumber(req, "max_range_m");
         r.skip_nonfinite = QueryTrueFalse(req, "skip_nonfinite", false);
         r.stamp_ns = QueryTime(req, "stamp");

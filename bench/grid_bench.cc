@@ -102,7 +102,7 @@ std::vector<engine::Observation> ObservationSet(double fov_rad, double range_m) 
     o.fov_rad = fov_rad;
     o.range_m = range_m;
     const Eigen::Vector2d c = o.sensor_position_m + 1.5 * Eigen::Vector2d(std::cos(heading), std::sin(heading));
-    o.stimulus_M.push_back(Rectangle(c.x() - 0.4, c.y() - 0.3, c.x() + 0.4, c.y() + 0.3));
+    o.stimulus_map.push_back(Rectangle(c.x() - 0.4, c.y() - 0.3, c.x() + 0.4, c.y() + 0.3));
     set.push_back(std::move(o));
   }
   return set;
@@ -260,7 +260,7 @@ std::vector<float> RealisticLayer() {
     o.fov_rad = 1.0;
     o.range_m = 3.5;
     const Eigen::Vector2d c = o.sensor_position_m + 1.5 * Eigen::Vector2d(std::cos(o.heading_rad), std::sin(o.heading_rad));
-    o.stimulus_M.push_back(Rectangle(c.x() - 0.4, c.y() - 0.3, c.x() + 0.4, c.y() + 0.3));
+    o.stimulus_map.push_back(Rectangle(c.x() - 0.4, c.y() - 0.3, c.x() + 0.4, c.y() + 0.3));
     engine::ApplyObservation(occupancy, {}, model, o, log_odds);
   }
   return log_odds.cells;

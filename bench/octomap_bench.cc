@@ -41,8 +41,8 @@ struct Stats {
 };
 
 struct Keyframe {
-  std::vector<Eigen::Vector3f> points_M;
-  Eigen::Vector3d origin_M;
+  std::vector<Eigen::Vector3f> points_map;
+  Eigen::Vector3d origin_map;
 };
 
 std::vector<Keyframe> RenderKeyframes(int n) {
@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
   const double max_range_m = 5.0;
   const std::vector<Keyframe> keyframes = RenderKeyframes(frames);
   std::size_t points = 0;
-  for (const Keyframe& k : keyframes) points += k.points_M.size();
+  for (const Keyframe& k : keyframes) points += k.points_map.size();
   std::printf("octomap bench: %d rendered 640x480 keyframes of the TA room (Kinect-like sensor), %.0f points each on "
               "average, resolution 0.05 m, max range %.1f m\n", frames, static_cast<double>(points) / frames, max_range_m);
 
@@ -83,14 +83,14 @@ int main(int argc, char** argv) {
   Stats ours_ms, raw_ms;
   for (const Keyframe& k : keyframes) {
     octomap::Pointcloud cloud;
-    cloud.reserve(k.points_M.size());
+    cloud.reserve(k.points_map.size());
     auto t0 = Steady::now();
-    for (const Eigen::Vector3f& p : k.points_M) cloud.push_back(p.x(), p.y(), p.z());
-    raw.insertPointCloud(cloud, octomap::point3d(static_cast<float>(k.origin_M.x()), static_cast<float>(k.origin_M.y()),
-                                                 static_cast<float>(k.origin_M.z())), max_range_m);
+    for (const Eigen::Vector3f& p : k.points_map) cloud.push_back(p.x(), p.y(), p.z());
+    raw.insertPointCloud(cloud, octomap::point3d(static_cast<float>(k.origin_map.x()), static_cast<float>(k.origin_map.y()),
+                                                 static_cast<float>(k.origin_map.z())), max_range_m);
     raw_ms.ms.push_back(Ms(Steady::now() - t0));
     t0 = Steady::now();
-    ours.InsertCloud(k.points_M, k.origin_M, max_range_m, 1);
+    ours.InsertCloud(k.points_map, k.origin_map, max_range_m, 1);
     ours_ms.ms.push_back(Ms(Steady::now() - t0));
   }
   std::printf("insert one keyframe: ours %.1f ms mean, %.1f ms worst | raw OcTree::insertPointCloud %.1f ms mean, "
@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
     Stats service_ms;
     for (const Keyframe& k : keyframes) {
       const auto t0 = Steady::now();
-      service.InsertPoints("home", k.points_M, k.origin_M, max_range_m, 1);
+      service.InsertPoints("home", k.points_map, k.origin_map, max_range_m, 1);
       service_ms.ms.push_back(Ms(Steady::now() - t0));
     }
     const services::OctomapInfo info = service.Get("home");
@@ -145,13 +145,13 @@ int main(int argc, char** argv) {
     std::int64_t id = 0;
     for (const Keyframe& k : keyframes) {
       octomap::Pointcloud cloud;
-      cloud.reserve(k.points_M.size());
+      cloud.reserve(k.points_map.size());
       auto t0 = Steady::now();
-      for (const Eigen::Vector3f& p : k.points_M) cloud.push_back(p.x(), p.y(), p.z());
-      raw_peer.insertPointCloud(cloud, octomap::point3d(static_cast<float>(k.origin_M.x()), static_cast<float>(k.origin_M.y()),
-                                                        static_cast<float>(k.origin_M.z())), max_range_m);
+      for (const Eigen::Vector3f& p : k.points_map) cloud.push_back(p.x(), p.y(), p.z());
+      raw_peer.insertPointCloud(cloud, octomap::point3d(static_cast<float>(k.origin_map.x()), static_cast<float>(k.origin_map.y()),
+                                                        static_cast<float>(k.origin_map.z())), max_range_m);
       peer_ms.ms.push_back(Ms(Steady::now() - t0));
-      services::KeyframeInTree in_tree{++id, k.points_M, k.origin_M, 1};
+      services::KeyframeInTree in_tree{++id, k.points_map, k.origin_map, 1};
       t0 = Steady::now();
       service.IntegrateKeyframes("home", {in_tree});
       feed_ms.ms.push_back(Ms(Steady::now() - t0));

@@ -5,8 +5,8 @@
 namespace anchordb {
 
 double Pose3::YawRad() const {
-  const Eigen::Vector3d x_axis_M = orientation * Eigen::Vector3d::UnitX();
-  return std::atan2(x_axis_M.y(), x_axis_M.x());
+  const Eigen::Vector3d x_axis_map = orientation * Eigen::Vector3d::UnitX();
+  return std::atan2(x_axis_map.y(), x_axis_map.x());
 }
 
 Eigen::Vector2d GridGeometry::CellCenterInMap(int ix, int iy) const {
@@ -16,8 +16,8 @@ Eigen::Vector2d GridGeometry::CellCenterInMap(int ix, int iy) const {
   return {origin_x_m + c * gx - s * gy, origin_y_m + s * gx + c * gy};
 }
 
-Eigen::Vector2d GridGeometry::MapToGrid(const Eigen::Vector2d& p_M) const {
-  const double dx = p_M.x() - origin_x_m, dy = p_M.y() - origin_y_m;
+Eigen::Vector2d GridGeometry::MapToGrid(const Eigen::Vector2d& p_map) const {
+  const double dx = p_map.x() - origin_x_m, dy = p_map.y() - origin_y_m;
   const double c = std::cos(origin_yaw_rad), s = std::sin(origin_yaw_rad);
   return {(c * dx + s * dy) / resolution_m, (-s * dx + c * dy) / resolution_m};
 }

@@ -10,7 +10,7 @@
 
 namespace anchordb {
 
-// A pose in the map frame: position p_M [m] and orientation R_M (unit quaternion).
+// A pose in the map frame: position p_map [m] and orientation R_map (unit quaternion).
 struct Pose3 {
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
@@ -35,7 +35,7 @@ struct GridGeometry {
   // Centre of cell (ix, iy) in the map frame [m].
   Eigen::Vector2d CellCenterInMap(int ix, int iy) const;
   // Continuous grid coordinates (in cells) of a map-frame point; floor() gives the cell index.
-  Eigen::Vector2d MapToGrid(const Eigen::Vector2d& p_M) const;
+  Eigen::Vector2d MapToGrid(const Eigen::Vector2d& p_map) const;
   bool operator==(const GridGeometry&) const = default;
 };
 

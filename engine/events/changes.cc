@@ -67,12 +67,12 @@ std::vector<Segment> SegmentMask(std::vector<std::uint8_t> mask, std::span<const
   return ClusterSegments(MaskPoints(mask, depth_mm, K, X_MapCamera), p.segments);
 }
 
-Visibility CheckVisibility(const std::vector<Eigen::Vector3f>& points_M, std::span<const std::uint16_t> depth_mm,
+Visibility CheckVisibility(const std::vector<Eigen::Vector3f>& points_map, std::span<const std::uint16_t> depth_mm,
                            const PinholeIntrinsics& K, const Eigen::Isometry3d& X_MapCamera, const ChangeParams& p,
                            double max_range_m) {
   Visibility v;
   const Eigen::Isometry3d X_CM = X_MapCamera.inverse();
-  for (const auto& q : points_M) {
+  for (const auto& q : points_map) {
     const Eigen::Vector3d c = X_CM * q.cast<double>();
     if (c.z() <= 0.1 || c.z() > max_range_m) {
       ++v.outside;
@@ -96,11 +96,11 @@ Visibility CheckVisibility(const std::vector<Eigen::Vector3f>& points_M, std::sp
   return v;
 }
 
-std::vector<std::uint16_t> RenderDepthMm(const std::vector<Eigen::Vector3f>& points_M, const PinholeIntrinsics& K,
+std::vector<std::uint16_t> RenderDepthMm(const std::vector<Eigen::Vector3f>& points_map, const PinholeIntrinsics& K,
                                          const Eigen::Isometry3d& X_MapCamera) {
   std::vector<std::uint16_t> out(static_cast<std::size_t>(K.width) * K.height, 0);
   const Eigen::Isometry3f X_CM = X_MapCamera.inverse().cast<float>();
-  for (const auto& q : points_M) {
+  for (const auto& q : points_map) {
     const Eigen::Vector3f c = X_CM * q;
     if (c.z() <= 0.05f || c.z() > 65.0f) continue;
     const double u = K.fx * c.x() / c.z() + K.cx, v = K.fy * c.y() / c.z() + K.cy;

@@ -33,7 +33,7 @@ struct ChangeMasks {
 ChangeMasks CompareKeyframes(std::span<const std::uint16_t> before_mm, std::span<const std::uint16_t> after_mm,
                              std::span<const std::uint16_t> background_mm, int width, int height, const ChangeParams& p);
 
-// Points p_M of the mask's pixels.
+// Points p_map of the mask's pixels.
 std::vector<Eigen::Vector3f> MaskPoints(std::span<const std::uint8_t> mask, std::span<const std::uint16_t> depth_mm,
                                         const PinholeIntrinsics& K, const Eigen::Isometry3d& X_MapCamera);
 
@@ -52,13 +52,13 @@ struct Visibility {
   int unmeasured = 0;
   int Inside() const { return confirmed + seen_through + hidden + unmeasured; }
 };
-Visibility CheckVisibility(const std::vector<Eigen::Vector3f>& points_M, std::span<const std::uint16_t> depth_mm,
+Visibility CheckVisibility(const std::vector<Eigen::Vector3f>& points_map, std::span<const std::uint16_t> depth_mm,
                            const PinholeIntrinsics& K, const Eigen::Isometry3d& X_MapCamera, const ChangeParams& p,
                            double max_range_m = 4.5);
 
-// Depth [mm] of points p_M as the camera at X_MapCamera sees them, nearest wins (a z-buffer with 2x2 splats so a
+// Depth [mm] of points p_map as the camera at X_MapCamera sees them, nearest wins (a z-buffer with 2x2 splats so a
 // background rendered from a nearby viewpoint has no pinholes); 0 where no point falls.
-std::vector<std::uint16_t> RenderDepthMm(const std::vector<Eigen::Vector3f>& points_M, const PinholeIntrinsics& K,
+std::vector<std::uint16_t> RenderDepthMm(const std::vector<Eigen::Vector3f>& points_map, const PinholeIntrinsics& K,
                                          const Eigen::Isometry3d& X_MapCamera);
 
 // Whether a segment is the same object as one known at `centroid_m` with bounding box `extent_m`: centroids within

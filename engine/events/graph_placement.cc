@@ -7,7 +7,7 @@ namespace anchordb::engine {
 
 GraphPlacement PlaceInGraph(const grounding::FurnitureGraph& graph, const grounding::Knowledge& knowledge,
                             const grounding::Hypothesis& best, const grounding::Viewpoint& viewpoint,
-                            double relation_sharpness, const Eigen::Vector3d& p_M) {
+                            double relation_sharpness, const Eigen::Vector3d& p_map) {
   const int k = graph.category_count;
   std::vector<FurniturePiece> pieces;
   for (std::size_t v = 0; v < graph.vertices.size(); ++v) {
@@ -15,7 +15,7 @@ GraphPlacement PlaceInGraph(const grounding::FurnitureGraph& graph, const ground
     const int category = grounding::MostProbableCategory(best.state, k, static_cast<int>(v));
     pieces.push_back({vertex.id, knowledge.categories[category].name, vertex.position_m, vertex.extent_m, vertex.yaw_rad});
   }
-  const Placement placed = PlaceObject(p_M, pieces, viewpoint);
+  const Placement placed = PlaceObject(p_map, pieces, viewpoint);
   GraphPlacement out;
   out.vertex = placed.piece;
   out.category = grounding::MostProbableCategory(best.state, k, placed.piece);
@@ -23,7 +23,7 @@ GraphPlacement PlaceInGraph(const grounding::FurnitureGraph& graph, const ground
   out.gap_m = placed.gap_m;
   if (placed.on) return out;
   const grounding::Distribution4 relative = grounding::RelationFromOffset(
-      viewpoint.ToViewer(p_M.head<2>() - pieces[static_cast<std::size_t>(placed.piece)].position_m), relation_sharpness);
+      viewpoint.ToViewer(p_map.head<2>() - pieces[static_cast<std::size_t>(placed.piece)].position_m), relation_sharpness);
   const grounding::WordChoice choice = grounding::PreferredWord(knowledge, best, k, placed.piece, relative);
   out.word = choice.word;
   out.frame = choice.frame;

@@ -18,10 +18,10 @@ struct GraphPlacement {
   double gap_m = 0.0;  // distance from the piece's footprint [m] (0 when on)
 };
 
-// p_M: the thing's position in the map frame [m] (z ignored). relation_sharpness: kappa of the graph
+// p_map: the thing's position in the map frame [m] (z ignored). relation_sharpness: kappa of the graph
 // (grounding::RelationFromOffset). The graph has at least one vertex.
 GraphPlacement PlaceInGraph(const grounding::FurnitureGraph& graph, const grounding::Knowledge& knowledge,
                             const grounding::Hypothesis& best, const grounding::Viewpoint& viewpoint,
-                            double relation_sharpness, const Eigen::Vector3d& p_M);
+                            double relation_sharpness, const Eigen::Vector3d& p_map);
 
 }  // namespace anchordb::engine

@@ -10,15 +10,15 @@
 
 namespace anchordb::engine {
 
-std::vector<Segment> ClusterSegments(const std::vector<Eigen::Vector3f>& points_M, const SegmentParams& params) {
+std::vector<Segment> ClusterSegments(const std::vector<Eigen::Vector3f>& points_map, const SegmentParams& params) {
   std::vector<Segment> out;
-  if (points_M.empty()) return out;
-  const std::size_t step = std::max<std::size_t>(1, (points_M.size() + params.max_input_points - 1) /
+  if (points_map.empty()) return out;
+  const std::size_t step = std::max<std::size_t>(1, (points_map.size() + params.max_input_points - 1) /
                                                         static_cast<std::size_t>(std::max(1, params.max_input_points)));
   auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  cloud->reserve(points_M.size() / step + 1);
-  for (std::size_t i = 0; i < points_M.size(); i += step) {
-    const auto& p = points_M[i];
+  cloud->reserve(points_map.size() / step + 1);
+  for (std::size_t i = 0; i < points_map.size(); i += step) {
+    const auto& p = points_map[i];
     cloud->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
   }
   auto tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>();

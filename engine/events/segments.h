@@ -26,7 +26,7 @@ struct Segment {
   Eigen::Vector3d Extent() const { return max_m - min_m; }
 };
 
-// Clusters points p_M; largest segment first. Counts refer to the input points (subsampling is scaled back).
-std::vector<Segment> ClusterSegments(const std::vector<Eigen::Vector3f>& points_M, const SegmentParams& params);
+// Clusters points p_map; largest segment first. Counts refer to the input points (subsampling is scaled back).
+std::vector<Segment> ClusterSegments(const std::vector<Eigen::Vector3f>& points_map, const SegmentParams& params);
 
 }  // namespace anchordb::engine

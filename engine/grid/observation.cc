@@ -53,7 +53,7 @@ ObservationCounts ApplyObservation(const OccupancyGrid& occupancy, const Occupan
   const int iy1 = std::min(g.height_cells - 1, static_cast<int>(std::ceil(sensor_grid.y() + range_cells)));
 
   MaskGrid stimulus(g, 0);
-  const std::size_t stimulus_cells = RasterisePolygons(obs.stimulus_M, stimulus);
+  const std::size_t stimulus_cells = RasterisePolygons(obs.stimulus_map, stimulus);
 
   const double half_fov = obs.fov_rad / 2.0;
   const bool full_circle = obs.fov_rad >= 2.0 * std::numbers::pi - 1e-9;

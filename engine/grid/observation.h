@@ -15,11 +15,11 @@
 namespace anchordb::engine {
 
 struct Observation {
-  Eigen::Vector2d sensor_position_m = Eigen::Vector2d::Zero();  // p_M of the sensor
+  Eigen::Vector2d sensor_position_m = Eigen::Vector2d::Zero();  // p_map of the sensor
   double heading_rad = 0.0;                                      // yaw of the sensor's viewing direction in M
   double fov_rad = 1.0;                                          // full horizontal opening angle, (0, 2*pi]
   double range_m = 3.0;                                          // > 0
-  std::vector<Polygon2> stimulus_M;                              // where the cue was seen
+  std::vector<Polygon2> stimulus_map;                              // where the cue was seen
 };
 
 struct ObservationCounts {

@@ -5,11 +5,11 @@
 
 namespace anchordb::engine {
 
-std::size_t RasterisePolygons(const std::vector<Polygon2>& polygons_M, MaskGrid& mask) {
+std::size_t RasterisePolygons(const std::vector<Polygon2>& polygons_map, MaskGrid& mask) {
   const GridGeometry& g = mask.geometry;
   std::size_t set = 0;
   std::vector<double> crossings;
-  for (const Polygon2& polygon : polygons_M) {
+  for (const Polygon2& polygon : polygons_map) {
     std::vector<Eigen::Vector2d> v;  // vertices in continuous grid coordinates [cells]
     v.reserve(polygon.size());
     double min_y = 1e300, max_y = -1e300;

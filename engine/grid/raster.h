@@ -8,6 +8,6 @@
 namespace anchordb::engine {
 
 // Marks (sets to 1) the cells of `mask` whose centres lie inside any polygon. Returns how many cells were set.
-std::size_t RasterisePolygons(const std::vector<Polygon2>& polygons_M, MaskGrid& mask);
+std::size_t RasterisePolygons(const std::vector<Polygon2>& polygons_map, MaskGrid& mask);
 
 }  // namespace anchordb::engine

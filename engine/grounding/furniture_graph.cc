@@ -7,10 +7,10 @@
 
 namespace anchordb::engine::grounding {
 
-Eigen::Vector2d Viewpoint::ToViewer(const Eigen::Vector2d& d_M) const {
+Eigen::Vector2d Viewpoint::ToViewer(const Eigen::Vector2d& d_map) const {
   const Eigen::Vector2d forward(std::cos(heading_rad), std::sin(heading_rad));
   const Eigen::Vector2d right(std::sin(heading_rad), -std::cos(heading_rad));
-  return {d_M.dot(right), d_M.dot(forward)};
+  return {d_map.dot(right), d_map.dot(forward)};
 }
 
 int FurnitureGraph::FindDirected(int located, int reference) const {
@@ -42,12 +42,12 @@ Distribution4 RelationFromOffset(const Eigen::Vector2d& d_V, double sharpness) {
   return p;
 }
 
-Distribution4 LineOfSightRelation(const Viewpoint& viewpoint, const Eigen::Vector2d& located_M,
-                                  const Eigen::Vector2d& reference_M, double sharpness) {
-  const Eigen::Vector2d sight = reference_M - viewpoint.position_m;
+Distribution4 LineOfSightRelation(const Viewpoint& viewpoint, const Eigen::Vector2d& located_map,
+                                  const Eigen::Vector2d& reference_map, double sharpness) {
+  const Eigen::Vector2d sight = reference_map - viewpoint.position_m;
   Viewpoint along = viewpoint;
   if (sight.norm() > 1e-9) along.heading_rad = std::atan2(sight.y(), sight.x());
-  return RelationFromOffset(along.ToViewer(located_M - reference_M), sharpness);
+  return RelationFromOffset(along.ToViewer(located_map - reference_map), sharpness);
 }
 
 void SetLineOfSight(FurnitureGraph& graph, const Viewpoint& viewpoint, double sharpness) {

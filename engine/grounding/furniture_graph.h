@@ -20,8 +20,8 @@ namespace anchordb::engine::grounding {
 struct Viewpoint {
   Eigen::Vector2d position_m = Eigen::Vector2d::Zero();
   double heading_rad = 0.0;
-  // The map-frame vector d_M expressed in the viewer frame (x right, y forward).
-  Eigen::Vector2d ToViewer(const Eigen::Vector2d& d_M) const;
+  // The map-frame vector d_map expressed in the viewer frame (x right, y forward).
+  Eigen::Vector2d ToViewer(const Eigen::Vector2d& d_map) const;
 };
 
 struct FurnitureInput {
@@ -91,10 +91,10 @@ struct FurnitureGraph {
 // p(r) of a located object at offset d_V from its reference, in the viewer frame; uniform when d_V is zero.
 Distribution4 RelationFromOffset(const Eigen::Vector2d& d_V, double sharpness);
 
-// p(r) of a located piece at p_M relative to a reference at q_M, in the frame whose forward axis is the line of sight
-// from the viewpoint's position to q_M (the viewing direction when q_M is at the viewer).
-Distribution4 LineOfSightRelation(const Viewpoint& viewpoint, const Eigen::Vector2d& located_M,
-                                  const Eigen::Vector2d& reference_M, double sharpness);
+// p(r) of a located piece at p_map relative to a reference at q_map, in the frame whose forward axis is the line of sight
+// from the viewpoint's position to q_map (the viewing direction when q_map is at the viewer).
+Distribution4 LineOfSightRelation(const Viewpoint& viewpoint, const Eigen::Vector2d& located_map,
+                                  const Eigen::Vector2d& reference_map, double sharpness);
 
 // Fills every edge's line_of_sight from the vertices' positions (BuildFurnitureGraph does; a graph read back from
 // its stored form needs it again).

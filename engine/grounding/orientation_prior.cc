@@ -101,8 +101,8 @@ std::optional<Eigen::Vector2d> FaceRoom(std::size_t i, double reach_m, const std
 
 }  // namespace
 
-Distribution4 OrientationFromFront(const Viewpoint& viewpoint, const Eigen::Vector2d& front_M, double kappa) {
-  const Eigen::Vector2d f = viewpoint.ToViewer(front_M).normalized();
+Distribution4 OrientationFromFront(const Viewpoint& viewpoint, const Eigen::Vector2d& front_map, double kappa) {
+  const Eigen::Vector2d f = viewpoint.ToViewer(front_map).normalized();
   // Directions of the orientations in the viewer frame (x right, y away): left, right, front (towards the viewer),
   // back (away).
   const double cosines[kOrientationCount] = {-f.x(), f.x(), -f.y(), f.y()};

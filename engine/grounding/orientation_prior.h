@@ -30,8 +30,8 @@ struct RoomLayout {
 // and 55 degrees away (an oblique view; the four orientations are 90 degrees apart).
 inline constexpr double kFrontSharpness = 6.0;
 
-// p(o) of a piece whose front points along front_M (map frame, any length > 0), seen from `viewpoint`.
-Distribution4 OrientationFromFront(const Viewpoint& viewpoint, const Eigen::Vector2d& front_M, double kappa);
+// p(o) of a piece whose front points along front_map (map frame, any length > 0), seen from `viewpoint`.
+Distribution4 OrientationFromFront(const Viewpoint& viewpoint, const Eigen::Vector2d& front_map, double kappa);
 
 // The direction piece `i`'s front points by `rule` (map frame, unit), or nullopt when the rule finds nothing.
 std::optional<Eigen::Vector2d> FrontDirection(const FrontPrior& rule, std::size_t i, const std::vector<FurnitureInput>& furniture,

@@ -21,12 +21,12 @@ BandCells ProjectBand(const std::vector<Voxel>& voxels, float occupied_log_odds,
   const double eps = 1e-6;
   for (const Voxel& v : voxels) {
     const double half = v.size_m / 2;
-    if (v.center_M.z() + half <= band.min_z_m || v.center_M.z() - half >= band.max_z_m) continue;
+    if (v.center_map.z() + half <= band.min_z_m || v.center_map.z() - half >= band.max_z_m) continue;
     const bool occupied = v.log_odds > occupied_log_odds;
-    const int x0 = static_cast<int>(std::floor((v.center_M.x() - half + eps - g.origin_x_m) / g.resolution_m));
-    const int x1 = static_cast<int>(std::floor((v.center_M.x() + half - eps - g.origin_x_m) / g.resolution_m));
-    const int y0 = static_cast<int>(std::floor((v.center_M.y() - half + eps - g.origin_y_m) / g.resolution_m));
-    const int y1 = static_cast<int>(std::floor((v.center_M.y() + half - eps - g.origin_y_m) / g.resolution_m));
+    const int x0 = static_cast<int>(std::floor((v.center_map.x() - half + eps - g.origin_x_m) / g.resolution_m));
+    const int x1 = static_cast<int>(std::floor((v.center_map.x() + half - eps - g.origin_x_m) / g.resolution_m));
+    const int y0 = static_cast<int>(std::floor((v.center_map.y() - half + eps - g.origin_y_m) / g.resolution_m));
+    const int y1 = static_cast<int>(std::floor((v.center_map.y() + half - eps - g.origin_y_m) / g.resolution_m));
     for (int iy = std::max(y0, 0); iy <= std::min(y1, g.height_cells - 1); ++iy) {
       for (int ix = std::max(x0, 0); ix <= std::min(x1, g.width_cells - 1); ++ix) {
         std::int8_t& c = cells[static_cast<std::size_t>(iy) * g.width_cells + ix];
@@ -38,13 +38,13 @@ BandCells ProjectBand(const std::vector<Voxel>& voxels, float occupied_log_odds,
   return cells;
 }
 
-GridGeometry GridCovering(const Eigen::Vector3d& min_M, const Eigen::Vector3d& max_M, double resolution_m) {
+GridGeometry GridCovering(const Eigen::Vector3d& min_map, const Eigen::Vector3d& max_map, double resolution_m) {
   GridGeometry g;
   g.resolution_m = resolution_m;
-  g.origin_x_m = std::floor(min_M.x() / resolution_m + 1e-9) * resolution_m;
-  g.origin_y_m = std::floor(min_M.y() / resolution_m + 1e-9) * resolution_m;
-  g.width_cells = std::max(1, static_cast<int>(std::ceil((max_M.x() - g.origin_x_m) / resolution_m - 1e-9)));
-  g.height_cells = std::max(1, static_cast<int>(std::ceil((max_M.y() - g.origin_y_m) / resolution_m - 1e-9)));
+  g.origin_x_m = std::floor(min_map.x() / resolution_m + 1e-9) * resolution_m;
+  g.origin_y_m = std::floor(min_map.y() / resolution_m + 1e-9) * resolution_m;
+  g.width_cells = std::max(1, static_cast<int>(std::ceil((max_map.x() - g.origin_x_m) / resolution_m - 1e-9)));
+  g.height_cells = std::max(1, static_cast<int>(std::ceil((max_map.y() - g.origin_y_m) / resolution_m - 1e-9)));
   return g;
 }
 

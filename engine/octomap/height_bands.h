@@ -27,8 +27,8 @@ using BandCells = std::vector<std::int8_t>;
 BandCells ProjectBand(const std::vector<Voxel>& known_voxels, float occupied_log_odds, const GridGeometry& grid,
                       const HeightBand& band);
 
-// A grid covering `min_M`..`max_M` in x/y at `resolution_m`, its origin on a multiple of the resolution.
-GridGeometry GridCovering(const Eigen::Vector3d& min_M, const Eigen::Vector3d& max_M, double resolution_m);
+// A grid covering `min_map`..`max_map` in x/y at `resolution_m`, its origin on a multiple of the resolution.
+GridGeometry GridCovering(const Eigen::Vector3d& min_map, const Eigen::Vector3d& max_map, double resolution_m);
 
 struct BandCounts {
   std::size_t occupied = 0, free = 0, unknown = 0;

@@ -54,12 +54,12 @@ point3d ToPoint(const Eigen::Vector3d& v) {
 // `box` cut to the addressable volume (2^15 leaves each way), where liboctomap's key conversion holds.
 Box3 Addressable(const Box3& box, double resolution_m) {
   const double half = resolution_m * 32767.0;
-  return {box.min_M.cwiseMax(Eigen::Vector3d::Constant(-half)).cwiseMin(Eigen::Vector3d::Constant(half)),
-          box.max_M.cwiseMax(Eigen::Vector3d::Constant(-half)).cwiseMin(Eigen::Vector3d::Constant(half))};
+  return {box.min_map.cwiseMax(Eigen::Vector3d::Constant(-half)).cwiseMin(Eigen::Vector3d::Constant(half)),
+          box.max_map.cwiseMax(Eigen::Vector3d::Constant(-half)).cwiseMin(Eigen::Vector3d::Constant(half))};
 }
 
 bool Inside(const Box3& b, const Eigen::Vector3d& p) {
-  return (p.array() >= b.min_M.array()).all() && (p.array() <= b.max_M.array()).all();
+  return (p.array() >= b.min_map.array()).all() && (p.array() <= b.max_map.array()).all();
 }
 
 }  // namespace
@@ -133,20 +133,20 @@ void OccupancyTree::SetParams(const OccupancyTreeParams& params) {
   ApplyParams(impl_->tree, params);
 }
 
-InsertStats OccupancyTree::InsertCloud(const std::vector<Eigen::Vector3f>& points_M, const Eigen::Vector3d& origin_M,
+InsertStats OccupancyTree::InsertCloud(const std::vector<Eigen::Vector3f>& points_map, const Eigen::Vector3d& origin_map,
                                        double max_range_m, std::int64_t stamp_ns) {
-  Require(Finite(origin_M), "origin", "must be finite");
-  Require(impl_->Addressable(origin_M), "origin", "lies outside the tree's addressable volume");
+  Require(Finite(origin_map), "origin", "must be finite");
+  Require(impl_->Addressable(origin_map), "origin", "lies outside the tree's addressable volume");
   OcTree& tree = impl_->tree;
-  if (const OcTreeNode* at_origin = tree.search(ToPoint(origin_M)); at_origin && tree.isNodeOccupied(at_origin)) {
+  if (const OcTreeNode* at_origin = tree.search(ToPoint(origin_map)); at_origin && tree.isNodeOccupied(at_origin)) {
     throw Error(ErrorCode::kUnprocessable, "origin lies inside an occupied voxel", "origin");
   }
   octomap::Pointcloud scan;
-  scan.reserve(points_M.size());
+  scan.reserve(points_map.size());
   // The addressable half-extent: 2^15 leaves each way.
   const double half_extent_m = impl_->params.resolution_m * 32768.0 - impl_->params.resolution_m;
-  for (std::size_t i = 0; i < points_M.size(); ++i) {
-    const Eigen::Vector3f& p = points_M[i];
+  for (std::size_t i = 0; i < points_map.size(); ++i) {
+    const Eigen::Vector3f& p = points_map[i];
     if (!p.allFinite()) {
       throw Error(ErrorCode::kUnprocessable, "point " + std::to_string(i) + " is not finite", "points");
     }
@@ -158,7 +158,7 @@ InsertStats OccupancyTree::InsertCloud(const std::vector<Eigen::Vector3f>& point
   }
   // As OcTree::insertPointCloud (computeUpdate, then free before occupied), with the stamp of each updated key.
   octomap::KeySet free_cells, occupied_cells;
-  tree.computeUpdate(scan, ToPoint(origin_M), free_cells, occupied_cells, max_range_m > 0 ? max_range_m : -1.0);
+  tree.computeUpdate(scan, ToPoint(origin_map), free_cells, occupied_cells, max_range_m > 0 ? max_range_m : -1.0);
   impl_->stamps.reserve(impl_->stamps.size() + free_cells.size() + occupied_cells.size());
   for (const OcTreeKey& key : free_cells) {
     tree.updateNode(key, false);
@@ -168,20 +168,20 @@ InsertStats OccupancyTree::InsertCloud(const std::vector<Eigen::Vector3f>& point
     tree.updateNode(key, true);
     impl_->stamps[Pack(key)] = stamp_ns;
   }
-  return {points_M.size(), free_cells.size(), occupied_cells.size()};
+  return {points_map.size(), free_cells.size(), occupied_cells.size()};
 }
 
-std::vector<PointOccupancy> OccupancyTree::Query(const std::vector<Eigen::Vector3d>& points_M) const {
+std::vector<PointOccupancy> OccupancyTree::Query(const std::vector<Eigen::Vector3d>& points_map) const {
   std::vector<PointOccupancy> out;
-  out.reserve(points_M.size());
+  out.reserve(points_map.size());
   const OcTree& tree = impl_->tree;
-  for (std::size_t i = 0; i < points_M.size(); ++i) {
-    if (!Finite(points_M[i])) {
+  for (std::size_t i = 0; i < points_map.size(); ++i) {
+    if (!Finite(points_map[i])) {
       throw Error(ErrorCode::kUnprocessable, "point " + std::to_string(i) + " is not finite", "points");
     }
     PointOccupancy q;
     OcTreeKey key;
-    if (!tree.coordToKeyChecked(ToPoint(points_M[i]), key)) {
+    if (!tree.coordToKeyChecked(ToPoint(points_map[i]), key)) {
       out.push_back(q);
       continue;
     }
@@ -205,33 +205,33 @@ std::vector<PointOccupancy> OccupancyTree::Query(const std::vector<Eigen::Vector
   return out;
 }
 
-RayHit OccupancyTree::CastRay(const Eigen::Vector3d& origin_M, const Eigen::Vector3d& direction_M,
+RayHit OccupancyTree::CastRay(const Eigen::Vector3d& origin_map, const Eigen::Vector3d& direction_map,
                               double max_range_m, bool ignore_unknown) const {
-  Require(Finite(origin_M), "origin", "must be finite");
-  Require(Finite(direction_M) && direction_M.norm() > 1e-12, "direction", "must be finite and non-zero");
+  Require(Finite(origin_map), "origin", "must be finite");
+  Require(Finite(direction_map) && direction_map.norm() > 1e-12, "direction", "must be finite and non-zero");
   Require(std::isfinite(max_range_m) && max_range_m > 0, "max_range_m", "must be positive");
-  Require(impl_->Addressable(origin_M), "origin", "lies outside the tree's addressable volume");
+  Require(impl_->Addressable(origin_map), "origin", "lies outside the tree's addressable volume");
   const OcTree& tree = impl_->tree;
   point3d end;
   RayHit hit;
-  if (tree.castRay(ToPoint(origin_M), ToPoint(direction_M), end, ignore_unknown, max_range_m)) {
+  if (tree.castRay(ToPoint(origin_map), ToPoint(direction_map), end, ignore_unknown, max_range_m)) {
     hit.stopped_by = VoxelState::kOccupied;
   } else if (!ignore_unknown && tree.search(end) == nullptr) {
     hit.stopped_by = VoxelState::kUnknown;
   }
-  hit.end_M = ToEigen(end);
-  hit.distance_m = (hit.end_M - origin_M).norm();
+  hit.end_map = ToEigen(end);
+  hit.distance_m = (hit.end_map - origin_map).norm();
   return hit;
 }
 
 std::vector<Voxel> OccupancyTree::OccupiedVoxels(const Box3& box_in, std::size_t limit, bool* truncated) const {
-  Require(Finite(box_in.min_M) && Finite(box_in.max_M), "min", "must be finite");
+  Require(Finite(box_in.min_map) && Finite(box_in.max_map), "min", "must be finite");
   const Box3 box = Addressable(box_in, impl_->params.resolution_m);
   std::vector<Voxel> out;
   if (truncated) *truncated = false;
   const OcTree& tree = impl_->tree;
   if (tree.size() == 0) return out;
-  for (auto it = tree.begin_leafs_bbx(ToPoint(box.min_M), ToPoint(box.max_M)), end = tree.end_leafs_bbx(); it != end;
+  for (auto it = tree.begin_leafs_bbx(ToPoint(box.min_map), ToPoint(box.max_map)), end = tree.end_leafs_bbx(); it != end;
        ++it) {
     if (!tree.isNodeOccupied(*it)) continue;
     const Eigen::Vector3d c = ToEigen(it.getCoordinate());
@@ -246,12 +246,12 @@ std::vector<Voxel> OccupancyTree::OccupiedVoxels(const Box3& box_in, std::size_t
 }
 
 std::vector<Voxel> OccupancyTree::KnownVoxels(const Box3& box_in) const {
-  Require(Finite(box_in.min_M) && Finite(box_in.max_M), "min", "must be finite");
+  Require(Finite(box_in.min_map) && Finite(box_in.max_map), "min", "must be finite");
   const Box3 box = Addressable(box_in, impl_->params.resolution_m);
   std::vector<Voxel> out;
   const OcTree& tree = impl_->tree;
   if (tree.size() == 0) return out;
-  for (auto it = tree.begin_leafs_bbx(ToPoint(box.min_M), ToPoint(box.max_M)), end = tree.end_leafs_bbx(); it != end;
+  for (auto it = tree.begin_leafs_bbx(ToPoint(box.min_map), ToPoint(box.max_map)), end = tree.end_leafs_bbx(); it != end;
        ++it) {
     out.push_back({ToEigen(it.getCoordinate()), it.getSize(), it->getLogOdds(), std::nullopt});
   }
@@ -276,8 +276,8 @@ TreeMetadata OccupancyTree::Metadata() const {
     hi = hi.cwiseMax((c.array() + half).matrix());
   }
   if (m.leaves > 0) {
-    m.min_M = lo;
-    m.max_M = hi;
+    m.min_map = lo;
+    m.max_map = hi;
   }
   return m;
 }
@@ -415,13 +415,13 @@ bool OccupancyTree::SameLeaves(const OccupancyTree& other, float tolerance) cons
 }
 
 std::size_t OccupancyTree::ClearBox(const Box3& box_in, std::int64_t stamp_ns) {
-  Require(Finite(box_in.min_M) && Finite(box_in.max_M) && (box_in.min_M.array() <= box_in.max_M.array()).all(), "min",
+  Require(Finite(box_in.min_map) && Finite(box_in.max_map) && (box_in.min_map.array() <= box_in.max_map.array()).all(), "min",
           "must be finite and not above max");
   const Box3 box = Addressable(box_in, impl_->params.resolution_m);
   OcTree& tree = impl_->tree;
   if (tree.size() == 0) return 0;
   OcTreeKey lo, hi;
-  if (!tree.coordToKeyChecked(ToPoint(box.min_M), lo) || !tree.coordToKeyChecked(ToPoint(box.max_M), hi)) {
+  if (!tree.coordToKeyChecked(ToPoint(box.min_map), lo) || !tree.coordToKeyChecked(ToPoint(box.max_map), hi)) {
     throw Error(ErrorCode::kUnprocessable, "box lies outside the tree's addressable volume", "min");
   }
   // The finest keys of every known leaf in the box (a pruned leaf is split so only its part in the box changes).

@@ -43,12 +43,12 @@ struct PointOccupancy {
 // What a ray found: the first occupied voxel, an unknown voxel (when unknown stops the ray) or nothing in range.
 struct RayHit {
   VoxelState stopped_by = VoxelState::kFree;  // kOccupied: hit; kUnknown: stopped at unknown; kFree: max range
-  Eigen::Vector3d end_M = Eigen::Vector3d::Zero();  // centre of the voxel where the ray ended
-  double distance_m = 0;  // from the origin to end_M
+  Eigen::Vector3d end_map = Eigen::Vector3d::Zero();  // centre of the voxel where the ray ended
+  double distance_m = 0;  // from the origin to end_map
 };
 
 struct Voxel {
-  Eigen::Vector3d center_M = Eigen::Vector3d::Zero();
+  Eigen::Vector3d center_map = Eigen::Vector3d::Zero();
   double size_m = 0;
   float log_odds = 0;
   std::optional<std::int64_t> stamp_ns;
@@ -60,7 +60,7 @@ struct TreeMetadata {
   std::size_t nodes = 0;            // all nodes
   std::size_t memory_bytes = 0;     // liboctomap's memoryUsage()
   std::size_t stamped_voxels = 0;   // voxels with an individual last-update time
-  std::optional<Eigen::Vector3d> min_M, max_M;  // bounding box of all known voxels; empty for an empty tree
+  std::optional<Eigen::Vector3d> min_map, max_map;  // bounding box of all known voxels; empty for an empty tree
 };
 
 struct InsertStats {
@@ -71,8 +71,8 @@ struct InsertStats {
 
 // A box in the map frame; min <= max component-wise.
 struct Box3 {
-  Eigen::Vector3d min_M = Eigen::Vector3d::Zero();
-  Eigen::Vector3d max_M = Eigen::Vector3d::Zero();
+  Eigen::Vector3d min_map = Eigen::Vector3d::Zero();
+  Eigen::Vector3d max_map = Eigen::Vector3d::Zero();
 };
 
 class OccupancyTree {
@@ -88,17 +88,17 @@ class OccupancyTree {
   // Changes the sensor model for later updates; the resolution must stay (kUnprocessable otherwise).
   void SetParams(const OccupancyTreeParams& params);
 
-  // Ray casts every point of `points_M` from `origin_M`: voxels on the way become more free, the end voxel more
+  // Ray casts every point of `points_map` from `origin_map`: voxels on the way become more free, the end voxel more
   // occupied; beyond `max_range_m` (<= 0: unlimited) a ray is cut and its end is not marked. Every updated voxel
   // gets `stamp_ns`. Throws kUnprocessable (tree unchanged) for a non-finite point or origin, a point or origin
   // outside the addressable volume, or an origin inside an occupied voxel.
-  InsertStats InsertCloud(const std::vector<Eigen::Vector3f>& points_M, const Eigen::Vector3d& origin_M,
+  InsertStats InsertCloud(const std::vector<Eigen::Vector3f>& points_map, const Eigen::Vector3d& origin_map,
                           double max_range_m, std::int64_t stamp_ns);
 
-  std::vector<PointOccupancy> Query(const std::vector<Eigen::Vector3d>& points_M) const;
-  // `direction_M` need not be unit length (kUnprocessable when zero or not finite). Unknown voxels stop the ray
+  std::vector<PointOccupancy> Query(const std::vector<Eigen::Vector3d>& points_map) const;
+  // `direction_map` need not be unit length (kUnprocessable when zero or not finite). Unknown voxels stop the ray
   // unless `ignore_unknown`.
-  RayHit CastRay(const Eigen::Vector3d& origin_M, const Eigen::Vector3d& direction_M, double max_range_m,
+  RayHit CastRay(const Eigen::Vector3d& origin_map, const Eigen::Vector3d& direction_map, double max_range_m,
                  bool ignore_unknown) const;
   // Occupied leaves whose centre lies in `box`, at most `limit` (then `truncated` is set).
   std::vector<Voxel> OccupiedVoxels(const Box3& box, std::size_t limit, bool* truncated = nullptr) const;

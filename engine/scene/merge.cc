@@ -367,13 +367,13 @@ std::vector<float> Rasterise(const std::vector<Eigen::Vector3f>& points_C, const
   return depth;
 }
 
-double FrustumOverlap(const std::vector<Eigen::Vector3f>& probe_M, const PinholeIntrinsics& K,
+double FrustumOverlap(const std::vector<Eigen::Vector3f>& probe_map, const PinholeIntrinsics& K,
                       const Eigen::Isometry3d& X_MapCamera, double far_m) {
-  if (probe_M.empty()) return 0.0;
+  if (probe_map.empty()) return 0.0;
   const Eigen::Isometry3d X_CM = X_MapCamera.inverse();
   std::size_t inside = 0;
-  for (const auto& p : probe_M) inside += Project(X_CM * p.cast<double>(), K, far_m).inside;
-  return static_cast<double>(inside) / probe_M.size();
+  for (const auto& p : probe_map) inside += Project(X_CM * p.cast<double>(), K, far_m).inside;
+  return static_cast<double>(inside) / probe_map.size();
 }
 
 MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std::uint16_t> depth, double units_per_m,

@@ -146,8 +146,8 @@ MergeResult MergeAndApplyFirstFrame(SceneModelState& state, std::span<const std:
 // closing kernel are filled (OpenCV morphological closing, applied to empty pixels only).
 std::vector<float> Rasterise(const std::vector<Eigen::Vector3f>& points_C, const PinholeIntrinsics& K, int closing_px);
 
-// Fraction of `probe_M` points (map frame) that fall into the view frustum of the camera (K, X_MapCamera, far).
-double FrustumOverlap(const std::vector<Eigen::Vector3f>& probe_M, const PinholeIntrinsics& K,
+// Fraction of `probe_map` points (map frame) that fall into the view frustum of the camera (K, X_MapCamera, far).
+double FrustumOverlap(const std::vector<Eigen::Vector3f>& probe_map, const PinholeIntrinsics& K,
                       const Eigen::Isometry3d& X_MapCamera, double far_m);
 
 }  // namespace anchordb::engine

@@ -10,7 +10,7 @@
 
 namespace anchordb::engine {
 
-// Points p_M of every pixel with depth > 0 (and mask != 0 when a mask is given), in pixel order.
+// Points p_map of every pixel with depth > 0 (and mask != 0 when a mask is given), in pixel order.
 // `depth_m` is metres per pixel; X_MapCamera is the pose of the optical frame in the map frame.
 std::vector<Eigen::Vector3f> BackProject(std::span<const float> depth_m, const PinholeIntrinsics& K,
                                          const Eigen::Isometry3d& X_MapCamera, std::span<const std::uint8_t> mask = {});

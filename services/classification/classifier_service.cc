@@ -405,7 +405,7 @@ std::vector<RoomClassification> ClassifierService::ClassifyRooms(const ClassifyR
       paint.map = request.map;
       paint.layer = request.into;
       paint.label = out[r].label;
-      paint.polygons_M = {request.regions[r].polygon_m};
+      paint.polygons_map = {request.regions[r].polygon_m};
       grid_.PaintLabel(paint);
     }
   }

@@ -167,10 +167,10 @@ InstanceView EventService::DeleteInstance(const std::string& map, std::int64_t i
 }
 
 // The one use of FurnitureService::Place: its answer as a where-is placement (nullopt without a furniture graph).
-std::optional<WherePlacement> EventService::GraphPlacement(const std::string& map, const Eigen::Vector3d& p_M,
+std::optional<WherePlacement> EventService::GraphPlacement(const std::string& map, const Eigen::Vector3d& p_map,
                                                            std::optional<std::int64_t> graph) {
   if (!furniture_ || !graph) return std::nullopt;
-  const std::optional<Placement> place = furniture_->Place(map, p_M, graph);
+  const std::optional<Placement> place = furniture_->Place(map, p_map, graph);
   if (!place) return std::nullopt;
   WherePlacement out;
   out.graph = place->graph;
@@ -249,14 +249,14 @@ void ReadProvenance(storage::Connection& c, const std::string& map, const storag
 
 // Plain-geometry placement, for a map without a furniture graph: the nearest furniture instance an operator entered
 // or a segmentation found, described as seen by `viewer`.
-WherePlacement GeometryPlacement(const std::vector<storage::InstanceRecord>& furniture, const Eigen::Vector3d& p_M,
+WherePlacement GeometryPlacement(const std::vector<storage::InstanceRecord>& furniture, const Eigen::Vector3d& p_map,
                                  const engine::grounding::Viewpoint& viewer) {
   std::vector<engine::FurniturePiece> pieces;
   for (const auto& r : furniture) {
     pieces.push_back({std::to_string(r.id), engine::FurnitureName(DecodeLabels(r.labels_json)), {r.position[0], r.position[1]},
                       {r.extent[0], r.extent[1]}, r.yaw_rad});
   }
-  const engine::Placement placed = engine::PlaceObject(p_M, pieces, viewer);
+  const engine::Placement placed = engine::PlaceObject(p_map, pieces, viewer);
   const engine::FurniturePiece& piece = pieces[static_cast<std::size_t>(placed.piece)];
   const engine::PlacementWords words = engine::DescribePlacement(placed, piece.name);
   WherePlacement g;

@@ -105,7 +105,7 @@ class EventService {
  private:
   std::mutex& MapMutex(const std::string& map);
   engine::EventRules Rules() const;
-  std::optional<WherePlacement> GraphPlacement(const std::string& map, const Eigen::Vector3d& p_M,
+  std::optional<WherePlacement> GraphPlacement(const std::string& map, const Eigen::Vector3d& p_map,
                                                std::optional<std::int64_t> graph);
 
   storage::Store& store_;

@@ -11,14 +11,14 @@ namespace anchordb::services {
 
 using furniture_detail::VertexOrNotFound;
 
-std::optional<Placement> FurnitureService::Place(const std::string& map, const Eigen::Vector3d& p_M,
+std::optional<Placement> FurnitureService::Place(const std::string& map, const Eigen::Vector3d& p_map,
                                                  std::optional<std::int64_t> graph_id) {
   if (!graph_id) graph_id = store_.Read([&](storage::Connection& c) { return storage::NewestFurnitureGraphId(c, map); });
   if (!graph_id) return std::nullopt;
   auto graph = Acquire(map, *graph_id);
   std::lock_guard<std::mutex> lock(graph->mutex);
   const engine::GraphPlacement placed = engine::PlaceInGraph(graph->graph, graph->knowledge, graph->set.ranked.front(),
-                                                             graph->viewpoint, graph->params.relation_sharpness, p_M);
+                                                             graph->viewpoint, graph->params.relation_sharpness, p_map);
   const g::Category& category = graph->knowledge.categories[placed.category];
   Placement out;
   out.graph = graph->record.id;

@@ -64,10 +64,10 @@ class FurnitureService {
   // Speech production: unknown vertex kNotFound; two pieces without an edge or the same piece kUnprocessable.
   Utterance Produce(const std::string& map, std::int64_t id, const ProduceRequest& request);
 
-  // Where a thing at p_M (map frame [m]) stands relative to the furniture of the map's newest graph, in the words
+  // Where a thing at p_map (map frame [m]) stands relative to the furniture of the map's newest graph, in the words
   // the grounding model of that graph's listener prefers (SPEC §4.4). Nullopt when the map has no furniture graph.
   // `graph`: the graph to use when the caller already knows the newest one (saves a database read).
-  std::optional<Placement> Place(const std::string& map, const Eigen::Vector3d& p_M, std::optional<std::int64_t> graph = {});
+  std::optional<Placement> Place(const std::string& map, const Eigen::Vector3d& p_map, std::optional<std::int64_t> graph = {});
 
   const FurnitureSettings& settings() const { return settings_; }
   // The knowledge document new graphs are created with, serialised (JSON text as stored with each graph).

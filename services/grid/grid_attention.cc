@@ -27,10 +27,10 @@ Agent GridService::GetAgent(const std::string& map, const std::string& agent) {
   });
 }
 
-std::vector<Agent> GridService::ListAgents(const std::string& map, const std::optional<storage::Bbox>& bbox_M) {
+std::vector<Agent> GridService::ListAgents(const std::string& map, const std::optional<storage::Bbox>& bbox_map) {
   return store_.Read([&](storage::Connection& c) {
     grid_detail::RequireMap(c, map);
-    return storage::ListAgents(c, map, bbox_M);
+    return storage::ListAgents(c, map, bbox_map);
   });
 }
 

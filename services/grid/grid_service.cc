@@ -189,7 +189,7 @@ PaintLabelResult GridService::PaintLabel(const PaintLabelRequest& request) {
     if (choice.is_new) layer.meta.labels[choice.id] = request.label;
     engine::LabelGrid grid = grid_detail::GridOf(layer.meta.geometry, std::move(layer.label_ids));
     engine::MaskGrid mask(grid.geometry, 0);
-    const std::size_t cells = engine::RasterisePolygons(request.polygons_M, mask);
+    const std::size_t cells = engine::RasterisePolygons(request.polygons_map, mask);
     engine::PaintMask(mask, static_cast<std::uint16_t>(choice.id), grid);
     layer.label_ids = std::move(grid.cells);
     storage::EncodeLayer(layer, record);

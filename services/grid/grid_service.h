@@ -61,7 +61,7 @@ class GridService {
   // ---- agents, attention, viewpoints
   Agent PutAgent(const PutAgentRequest& request);  // create or replace; returns what is stored
   Agent GetAgent(const std::string& map, const std::string& agent);
-  std::vector<Agent> ListAgents(const std::string& map, const std::optional<storage::Bbox>& bbox_M);
+  std::vector<Agent> ListAgents(const std::string& map, const std::optional<storage::Bbox>& bbox_map);
   AttentionResult Attention(const AttentionRequest& request);
   // kUnprocessable when the layer has no region above the threshold or the robot is not on known free space.
   ViewpointsResult Viewpoints(const ViewpointsRequest& request);

@@ -135,7 +135,7 @@ struct PaintLabelRequest {
   std::string map;
   std::string layer;  // a label layer
   std::string label;  // name; a new name gets the next free id
-  std::vector<Polygon2> polygons_M;
+  std::vector<Polygon2> polygons_map;
 };
 
 struct PaintLabelResult {
@@ -184,7 +184,7 @@ struct AttentionResult {
 
 struct ViewpointsRequest {
   std::string map;
-  Eigen::Vector2d robot_m = Eigen::Vector2d::Zero();  // where the robot stands, p_M
+  Eigen::Vector2d robot_m = Eigen::Vector2d::Zero();  // where the robot stands, p_map
   std::string agent;
   std::string layer;
   double threshold = 0.5;

@@ -37,8 +37,8 @@ FollowReport OctomapService::Follow(const std::string& map) {
         KeyframeInTree& k = batch.emplace_back();
         k.keyframe_id = id;
         if (kf) {
-          k.points_M = engine::BackProjectRaw(kf->depth_mm, 1000.0, kf->K, kf->X_MapCamera);
-          k.origin_M = kf->X_MapCamera.translation();
+          k.points_map = engine::BackProjectRaw(kf->depth_mm, 1000.0, kf->K, kf->X_MapCamera);
+          k.origin_map = kf->X_MapCamera.translation();
           k.stamp_ns = kf->stamp_ns;
         }
       }
@@ -68,7 +68,7 @@ FollowReport OctomapService::Follow(const std::string& map) {
       // Half a voxel around the object, above the bottom voxel layer (the table or floor it stood on stays).
       const engine::Box3 box{{s.min_m[0] - r / 2, s.min_m[1] - r / 2, s.min_m[2] + r},
                              {s.max_m[0] + r / 2, s.max_m[1] + r / 2, s.max_m[2] + r / 2}};
-      if ((box.min_M.array() <= box.max_M.array()).all()) {
+      if ((box.min_map.array() <= box.max_map.array()).all()) {
         report.voxels_cleared += e.tree.ClearBox(box, clock_.NowNs());
       }
       ++report.removal_events;

@@ -33,14 +33,14 @@ ProjectResult OctomapService::Project(const ProjectRequest& request) {
     result.geometry = grid_->OccupancyGeometry(request.map, *like);
     result.geometry_from = "layer " + *like;
   } else {
-    if (!info.metadata.min_M || !info.metadata.max_M) {
+    if (!info.metadata.min_map || !info.metadata.max_map) {
       throw Error(ErrorCode::kUnprocessable, "the tree is empty and the map has no occupancy layer to follow", "like");
     }
     const double resolution = request.resolution_m.value_or(info.params.resolution_m);
     if (!std::isfinite(resolution) || resolution < 0.005 || resolution > 5) {
       throw Error(ErrorCode::kUnprocessable, "resolution_m must be in [0.005, 5] m", "resolution_m");
     }
-    result.geometry = engine::GridCovering(*info.metadata.min_M, *info.metadata.max_M, resolution);
+    result.geometry = engine::GridCovering(*info.metadata.min_map, *info.metadata.max_map, resolution);
     result.geometry_from = "tree";
   }
   const GridGeometry& g = result.geometry;

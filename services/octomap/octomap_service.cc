@@ -149,10 +149,10 @@ std::size_t OctomapService::IntegrateKeyframes(const std::string& map, const std
   try {
     for (const KeyframeInTree& k : keyframes) {
       if (k.keyframe_id <= entry->keyframes_through) continue;  // already in the tree
-      if (!k.points_M.empty()) {
+      if (!k.points_map.empty()) {
         // A keyframe taken from inside what the tree holds as occupied is skipped, not fatal.
         try {
-          entry->tree.InsertCloud(k.points_M, k.origin_M, entry->max_range_m, k.stamp_ns);
+          entry->tree.InsertCloud(k.points_map, k.origin_map, entry->max_range_m, k.stamp_ns);
           ++integrated;
         } catch (const Error& error) {
           if (error.code() != ErrorCode::kUnprocessable) throw;
@@ -253,7 +253,7 @@ ExportedLayer OctomapService::ExportOccupiedCloud(const std::string& map, engine
   const VoxelsResult voxels = OccupiedVoxels(map, kEverywhere, std::nullopt);
   std::vector<Eigen::Vector3f> points;
   points.reserve(voxels.voxels.size());
-  for (const engine::Voxel& v : voxels.voxels) points.push_back(v.center_M.cast<float>());
+  for (const engine::Voxel& v : voxels.voxels) points.push_back(v.center_map.cast<float>());
   ExportedLayer out = CloudBytes(points, format);
   out.truncated = voxels.truncated;
   return out;
@@ -261,9 +261,9 @@ ExportedLayer OctomapService::ExportOccupiedCloud(const std::string& map, engine
 
 InsertCloudResult OctomapService::InsertCloud(const InsertCloudRequest& request) {
   engine::DecodedCloud cloud = engine::DecodeCloud(request.body, static_cast<std::size_t>(settings_.max_points));
-  Eigen::Vector3d origin_M;
-  if (request.origin_M) origin_M = *request.origin_M;
-  else if (cloud.has_sensor_origin) origin_M = cloud.sensor_origin.cast<double>();
+  Eigen::Vector3d origin_map;
+  if (request.origin_map) origin_map = *request.origin_map;
+  else if (cloud.has_sensor_origin) origin_map = cloud.sensor_origin.cast<double>();
   else throw Error(ErrorCode::kInvalidArgument, "the sensor origin is missing (query origin=x,y,z)", "origin");
   std::size_t skipped = 0;
   if (request.skip_nonfinite) {
@@ -275,20 +275,20 @@ InsertCloudResult OctomapService::InsertCloud(const InsertCloudRequest& request)
     skipped = cloud.points.size() - finite.size();
     cloud.points = std::move(finite);
   }
-  InsertCloudResult r = InsertPoints(request.map, cloud.points, origin_M, request.max_range_m,
+  InsertCloudResult r = InsertPoints(request.map, cloud.points, origin_map, request.max_range_m,
                                      request.stamp_ns.value_or(clock_.NowNs()));
   r.skipped_nonfinite = skipped;
   return r;
 }
 
-InsertCloudResult OctomapService::InsertPoints(const std::string& map, const std::vector<Eigen::Vector3f>& points_M,
-                                               const Eigen::Vector3d& origin_M, std::optional<double> max_range_m,
+InsertCloudResult OctomapService::InsertPoints(const std::string& map, const std::vector<Eigen::Vector3f>& points_map,
+                                               const Eigen::Vector3d& origin_map, std::optional<double> max_range_m,
                                                std::int64_t stamp_ns) {
   if (max_range_m && (!std::isfinite(*max_range_m) || *max_range_m <= 0)) {
     throw Error(ErrorCode::kUnprocessable, "max_range_m must be positive", "max_range_m");
   }
   auto [stats, info] = Mutate(map, true, [&](Entry& e) {
-    return e.tree.InsertCloud(points_M, origin_M, max_range_m.value_or(e.max_range_m), stamp_ns);
+    return e.tree.InsertCloud(points_map, origin_map, max_range_m.value_or(e.max_range_m), stamp_ns);
   });
   InsertCloudResult r;
   r.stats = stats;
@@ -297,17 +297,17 @@ InsertCloudResult OctomapService::InsertPoints(const std::string& map, const std
 }
 
 std::vector<engine::PointOccupancy> OctomapService::Query(const std::string& map,
-                                                          const std::vector<Eigen::Vector3d>& points_M) {
-  if (points_M.size() > static_cast<std::size_t>(settings_.max_query_points)) {
+                                                          const std::vector<Eigen::Vector3d>& points_map) {
+  if (points_map.size() > static_cast<std::size_t>(settings_.max_query_points)) {
     throw Error(ErrorCode::kPayloadTooLarge,
                 "at most " + std::to_string(settings_.max_query_points) + " points per query", "points");
   }
-  return Inspect(map, [&](Entry& e) { return e.tree.Query(points_M); });
+  return Inspect(map, [&](Entry& e) { return e.tree.Query(points_map); });
 }
 
 engine::RayHit OctomapService::CastRay(const RayRequest& request) {
   return Inspect(request.map, [&](Entry& e) {
-    return e.tree.CastRay(request.origin_M, request.direction_M, request.max_range_m, request.ignore_unknown);
+    return e.tree.CastRay(request.origin_map, request.direction_map, request.max_range_m, request.ignore_unknown);
   });
 }
 

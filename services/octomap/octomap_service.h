@@ -42,11 +42,11 @@ class OctomapService {
   // Creates the tree with the defaults when the map has none.
   InsertCloudResult InsertCloud(const InsertCloudRequest& request);
   // Inserts points already in the map frame (keyframe clouds); as InsertCloud.
-  InsertCloudResult InsertPoints(const std::string& map, const std::vector<Eigen::Vector3f>& points_M,
-                                 const Eigen::Vector3d& origin_M, std::optional<double> max_range_m,
+  InsertCloudResult InsertPoints(const std::string& map, const std::vector<Eigen::Vector3f>& points_map,
+                                 const Eigen::Vector3d& origin_map, std::optional<double> max_range_m,
                                  std::int64_t stamp_ns);
 
-  std::vector<engine::PointOccupancy> Query(const std::string& map, const std::vector<Eigen::Vector3d>& points_M);
+  std::vector<engine::PointOccupancy> Query(const std::string& map, const std::vector<Eigen::Vector3d>& points_map);
   engine::RayHit CastRay(const RayRequest& request);
   VoxelsResult OccupiedVoxels(const std::string& map, const engine::Box3& box, std::optional<std::size_t> limit);
   // Known leaves in a box (for the height-band projection).

@@ -35,8 +35,8 @@ struct OctomapInfo {
 // One stored keyframe's depth, back-projected in the map frame, for the tree.
 struct KeyframeInTree {
   std::int64_t keyframe_id = 0;
-  std::vector<Eigen::Vector3f> points_M;  // empty: the keyframe is gone (its id still counts as followed)
-  Eigen::Vector3d origin_M = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3f> points_map;  // empty: the keyframe is gone (its id still counts as followed)
+  Eigen::Vector3d origin_map = Eigen::Vector3d::Zero();
   std::int64_t stamp_ns = 0;
 };
 
@@ -45,7 +45,7 @@ enum class TreeFileFormat { kBt, kOt };
 struct InsertCloudRequest {
   std::string map;
   std::string body;                        // PCD (any DATA kind) or PLY
-  std::optional<Eigen::Vector3d> origin_M; // the sensor origin; else the cloud's own viewpoint
+  std::optional<Eigen::Vector3d> origin_map; // the sensor origin; else the cloud's own viewpoint
   std::optional<double> max_range_m;       // else the map's
   bool skip_nonfinite = false;             // drop NaN / inf points (organised clouds) instead of refusing the cloud
   std::optional<std::int64_t> stamp_ns;    // else now
@@ -59,8 +59,8 @@ struct InsertCloudResult {
 
 struct RayRequest {
   std::string map;
-  Eigen::Vector3d origin_M = Eigen::Vector3d::Zero();
-  Eigen::Vector3d direction_M = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d origin_map = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction_map = Eigen::Vector3d::UnitX();
   double max_range_m = 10;
   bool ignore_unknown = false;
 };

@@ -44,7 +44,7 @@ class ObservationTest : public ::testing::Test {
     o.heading_rad = 0.0;
     o.fov_rad = fov_rad;
     o.range_m = range_m;
-    o.stimulus_M = std::move(stimulus);
+    o.stimulus_map = std::move(stimulus);
     return o;
   }
 };
@@ -146,7 +146,7 @@ ObservationCounts ReferenceApplyObservation(const OccupancyGrid& occupancy, cons
   const int iy0 = std::max(0, static_cast<int>(std::floor(sensor_grid.y() - range_cells)));
   const int iy1 = std::min(g.height_cells - 1, static_cast<int>(std::ceil(sensor_grid.y() + range_cells)));
   MaskGrid stimulus(g, 0);
-  const std::size_t stimulus_cells = RasterisePolygons(obs.stimulus_M, stimulus);
+  const std::size_t stimulus_cells = RasterisePolygons(obs.stimulus_map, stimulus);
   std::size_t stimulus_seen = 0;
   const double half_fov = obs.fov_rad / 2.0;
   const bool full_circle = obs.fov_rad >= 2.0 * std::numbers::pi - 1e-9;
@@ -305,7 +305,7 @@ TEST(ObservationEquivalenceTest, IndexedUpdateEqualsPerCellTraversalOnRandomScen
     obs.range_m = (1.0 + unit(rng) * (large ? 120.0 : 40.0)) * resolution_m;
     const Eigen::Vector2d c = Eigen::Vector2d(unit(rng) * width, unit(rng) * height) * resolution_m;
     const double half_m = (1.0 + unit(rng) * 6.0) * resolution_m;
-    obs.stimulus_M = {Box(c.x() - half_m, c.y() - half_m, c.x() + half_m, c.y() + half_m)};
+    obs.stimulus_map = {Box(c.x() - half_m, c.y() - half_m, c.x() + half_m, c.y() + half_m)};
 
     LogOddsGrid expected(occupancy.geometry, 0.0f);
     std::uniform_real_distribution<float> initial(model.min, model.max);

@@ -11,9 +11,9 @@
 namespace anchordb::engine {
 namespace {
 
-Voxel Block(const Eigen::Vector3d& center_M, double size_m) {
+Voxel Block(const Eigen::Vector3d& center_map, double size_m) {
   Voxel v;
-  v.center_M = center_M;
+  v.center_map = center_map;
   v.size_m = size_m;
   return v;
 }

@@ -51,7 +51,7 @@ TEST(OctomapTree, RayCastFindsTheFirstOccupiedVoxel) {
   const OccupancyTree tree = WallTree();
   const RayHit hit = tree.CastRay({0, 0, 1}, {1, 0, 0}, 10.0, false);
   EXPECT_EQ(hit.stopped_by, VoxelState::kOccupied);
-  EXPECT_NEAR(hit.end_M.x(), 2.0, 0.05);
+  EXPECT_NEAR(hit.end_map.x(), 2.0, 0.05);
   const RayHit up = tree.CastRay({0, 0, 1}, {0, 0, 1}, 10.0, false);
   EXPECT_EQ(up.stopped_by, VoxelState::kUnknown);
   EXPECT_THROW(tree.CastRay({0, 0, 1}, {0, 0, 0}, 10.0, false), Error);
@@ -63,7 +63,7 @@ TEST(OctomapTree, OccupiedVoxelsInABoxAreTheWallsOnly) {
   const auto voxels = tree.OccupiedVoxels({{1.5, -1, 0}, {2.5, 1, 2}}, 100000, &truncated);
   EXPECT_FALSE(truncated);
   ASSERT_GT(voxels.size(), 300u);  // 1 m^2 at 5 cm: about 400 voxels
-  for (const Voxel& v : voxels) EXPECT_NEAR(v.center_M.x(), 2.0, 0.05);
+  for (const Voxel& v : voxels) EXPECT_NEAR(v.center_map.x(), 2.0, 0.05);
   EXPECT_TRUE(tree.OccupiedVoxels({{0, -1, 0}, {1.5, 1, 2}}, 100000).empty());
   tree.OccupiedVoxels({{1.5, -1, 0}, {2.5, 1, 2}}, 10, &truncated);
   EXPECT_TRUE(truncated);
@@ -230,8 +230,8 @@ TEST(OctomapTree, StampsRestoreBesideTheOtStream) {
   EXPECT_EQ(back.Query({{1.0, 0.0, 1.0}})[0].stamp_ns, 777);
   const TreeMetadata m = back.Metadata();
   EXPECT_GT(m.leaves, m.occupied_leaves);
-  ASSERT_TRUE(m.min_M && m.max_M);
-  EXPECT_NEAR(m.max_M->x(), 2.05, 0.06);
+  ASSERT_TRUE(m.min_map && m.max_map);
+  EXPECT_NEAR(m.max_map->x(), 2.05, 0.06);
 }
 
 }  // namespace

@@ -48,9 +48,9 @@ TEST(OctomapProjection, BaseBandOfARenderedRoomMatchesItsGeometry) {
   const sim::Scene scene = sim::MakeSetting(sim::Setting::kTA, 1).scene;
   const OccupancyTree tree = RenderedRoomTree(scene, 12);
   const TreeMetadata m = tree.Metadata();
-  ASSERT_TRUE(m.min_M && m.max_M);
+  ASSERT_TRUE(m.min_map && m.max_map);
   // A grid reaching 1 m beyond everything the tree knows (as an imported base layer larger than the seen room).
-  const GridGeometry g = GridCovering(*m.min_M - Eigen::Vector3d(1, 1, 0), *m.max_M + Eigen::Vector3d(1, 1, 0),
+  const GridGeometry g = GridCovering(*m.min_map - Eigen::Vector3d(1, 1, 0), *m.max_map + Eigen::Vector3d(1, 1, 0),
                                       tree.params().resolution_m);
   const HeightBand base{"base", 0.05, 0.3};  // above the floor's voxels, up to a robot base
   const Box3 box{{g.origin_x_m, g.origin_y_m, base.min_z_m},

@@ -90,7 +90,7 @@ std::set<std::tuple<int, int, int>> OccupiedCells(const engine::OccupancyTree& t
   const engine::Box3 all{Eigen::Vector3d::Constant(-1e4), Eigen::Vector3d::Constant(1e4)};
   for (const engine::Voxel& v : tree.OccupiedVoxels(all, 1u << 30)) {
     const int n = static_cast<int>(std::lround(v.size_m / r));
-    const Eigen::Vector3d lo = v.center_M - Eigen::Vector3d::Constant(v.size_m / 2 - r / 2);
+    const Eigen::Vector3d lo = v.center_map - Eigen::Vector3d::Constant(v.size_m / 2 - r / 2);
     for (int i = 0; i < n; ++i) for (int j = 0; j < n; ++j) for (int k = 0; k < n; ++k) {
       const Eigen::Vector3d c = lo + r * Eigen::Vector3d(i, j, k);
       cells.emplace(static_cast<int>(std::floor(c.x() / r)), static_cast<int>(std::floor(c.y() / r)),

@@ -45,7 +45,7 @@ TEST_F(GridServiceTest, TheInjectedClockStampsMapsLayersAndAgents) {
   clock_.AdvanceNs(5);
   engine::Observation o;
   o.sensor_position_m = {0.5, 0.5};
-  o.stimulus_M = {Square(0.9, 0.2, 1.2, 0.5)};
+  o.stimulus_map = {Square(0.9, 0.2, 1.2, 0.5)};
   grid_->Observe({"m", "prob", o});
   const LayerInfo prob = grid_->GetLayer("m", "prob", false);
   EXPECT_EQ(prob.created_ns, kStartNs + 5);
@@ -64,7 +64,7 @@ TEST_F(GridServiceTest, ObservationsCountCellsAndBumpTheVersion) {
   o.sensor_position_m = {0.5, 0.5};
   o.fov_rad = 1.0;
   o.range_m = 2.0;
-  o.stimulus_M = {Square(0.9, 0.2, 1.2, 0.5)};
+  o.stimulus_map = {Square(0.9, 0.2, 1.2, 0.5)};
   const ObservationResult r = grid_->Observe({"m", "prob", o});
   EXPECT_EQ(r.layer, "prob");
   EXPECT_EQ(r.version, 2);
