@@ -1,45 +1,28 @@
-// The "backup" job kind, its stored request ({"file": path}, a JSON document of the jobs table) and
-// JobService::SubmitBackup.
+// The "backup" job kind and JobService::SubmitBackup (its stored request and report: services/jobs/job_documents.h).
 #include "services/jobs/backup_job.h"
-
-#include <nlohmann/json.hpp>
 
 #include <filesystem>
 
 #include "schema/error.h"
-#include "schema/json_io.h"
+#include "schema/ids.h"
 #include "services/jobs/job_documents.h"
 #include "storage/backup.h"
 #include "storage/connection.h"
 
 namespace anchordb::services {
-namespace {
-
-using Json = nlohmann::json;
-
-std::string FileOf(const std::string& request) {
-  const Json j = Json::parse(request, nullptr, false);
-  if (!j.is_object() || !j.contains("file") || !j["file"].is_string()) {
-    throw Error(ErrorCode::kInvalidArgument, "a backup request names its file", "file");
-  }
-  return j["file"].get<std::string>();
-}
-
-}  // namespace
-
 JobKind BackupJobKind(const std::string& db_path, const JobSettings& settings) {
   JobKind kind;
   kind.name = "backup";
   kind.first_stage = "copying";
   kind.check = [dir = settings.backup_dir](const JobSubmission& s) {
     if (dir.empty()) throw Error(ErrorCode::kUnprocessable, "this server has no backup_dir", "backup_dir");
-    const std::filesystem::path file = FileOf(s.request);
+    const std::filesystem::path file = BackupFileFromDocument(s.request);
     if (std::filesystem::path(dir) / file.filename() != file) {
       throw Error(ErrorCode::kInvalidArgument, "a backup goes into the server's backup_dir", "file");
     }
   };
   kind.run = [db_path, timeout_ms = settings.busy_timeout_ms, synchronous = settings.synchronous](JobContext& job) -> std::optional<std::string> {
-    const std::string file = FileOf(job.request());
+    const std::string file = BackupFileFromDocument(job.request());
     const storage::BackupReport report = storage::Backup(db_path, file, timeout_ms, [&](double fraction) {
       job.Progress(0.95 * fraction);  // the integrity check and the sync come after the copy
     });
@@ -68,7 +51,7 @@ JobTicket JobService::SubmitBackup(const BackupRequest& request) {
   if (!request.label.empty()) json::CheckId(request.label, "label");  // it becomes part of a file name
   if (settings_.backup_dir.empty()) throw Error(ErrorCode::kUnprocessable, "this server has no backup_dir", "backup_dir");
   const std::string file = storage::BackupFileName(settings_.backup_dir, store_.path(), clock_.NowNs(), request.label);
-  return Submit("backup", std::nullopt, Json{{"file", file}}.dump());
+  return Submit("backup", std::nullopt, BackupRequestDocument(file));
 }
 
 }  // namespace anchordb::services

@@ -109,4 +109,14 @@ std::string BackupReportDocument(const storage::BackupReport& r) {
       .dump();
 }
 
+std::string BackupRequestDocument(const std::string& file) { return Json{{"file", file}}.dump(); }
+
+std::string BackupFileFromDocument(const std::string& text) {
+  const Json j = Json::parse(text, nullptr, false);
+  if (!j.is_object() || !j.contains("file") || !j["file"].is_string()) {
+    throw Error(ErrorCode::kInvalidArgument, "a backup request names its file", "file");
+  }
+  return j["file"].get<std::string>();
+}
+
 }  // namespace anchordb::services

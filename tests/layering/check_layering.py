@@ -24,7 +24,6 @@ JSON_DEBT = {
     "services/events/event_details.cc",
     "services/features/feature_service.cc",
     "services/furniture/furniture_graph_json.cc",
-    "services/jobs/backup_job.cc",
     "services/jobs/job_documents.cc",
     "services/scene/scene_documents.cc",
     "services/scene/scene_documents_internal.h",
