@@ -222,8 +222,9 @@ constexpr std::size_t kMaxWhereFurniture = 10000;
 WhereInputs ReadWhereInputs(Connection& c, const std::string& map_id, const std::string& label, std::int64_t at_ns) {
   // Three parts in one UNION ALL, told apart by the first column: 0 a labelled object and its history entry at the
   // time (instance columns from 1, history columns after them), 1 a piece of furniture, 2 the newest graph id
-  // (column 1). No ORDER BY: the rows are put in order here, which spares PostgreSQL's executor three sort nodes
-  // per call (measured with pgbench: about a fifth of the statement's cost on the where-is benchmark's map).
+  // (column 1). No ORDER BY: the rows are put in order here, which spares PostgreSQL's executor two sort nodes and a
+  // subquery scan per call (measured with pgbench: about a fifth of the statement's cost on the where-is benchmark's
+  // map).
   const std::string sql =
       std::string("SELECT 0, ") + Qualified(kInstanceColumns, "i.") + ", " + Qualified(kHistoryColumns, "h.") +
       " FROM instances AS i LEFT JOIN instance_history AS h ON h.instance_id = i.id AND h.seq = ("

@@ -1,6 +1,7 @@
 #pragma once
 // The stored documents of the jobs table that outlive their job's run: a forget job's request (its policy), a
-// backup job's request (the file it writes), and the reports of a forgetting run and of a backup (job results; the CLI prints and audits the same text).
+// backup job's request (the file it writes), and the reports of a forgetting run and of a backup (job results; the
+// CLI prints and audits the same text).
 // They are serialised JSON today, built in job_documents.cc; issue 30 turns job requests and results into typed
 // records with storage codecs, and this file is where that happens.
 #include <string>
