@@ -18,7 +18,8 @@ constexpr const char* kSceneColumns =
 using Covariance = std::array<double, 36>;
 
 std::string EncodeCovariance(const Covariance& row_major) {
-  return EncodeBlob(BlobElement::kF64, {6, 6}, std::string_view(reinterpret_cast<const char*>(row_major.data()), sizeof row_major));
+  const std::string_view bytes(reinterpret_cast<const char*>(row_major.data()), sizeof row_major);
+  return EncodeBlob(BlobElement::kF64, {6, 6}, bytes);
 }
 
 std::optional<Covariance> DecodeCovariance(std::string_view blob) {

@@ -20,7 +20,6 @@
 
 namespace anchordb::services {
 
-
 namespace {
 namespace seg = engine::segmentation;
 

@@ -13,9 +13,12 @@
 #include "services/features/feature_service.h"
 #include "services/grid/grid_service.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/error_of.h"
 
 namespace anchordb::services {
 namespace {
+
+using testing::CodeOf;
 
 constexpr std::int64_t kStartNs = 1'700'000'000'000'000'000LL;
 
@@ -57,16 +60,6 @@ class ClassifierServiceTest : public ::testing::Test {
     ASSERT_EQ(done.status, JobStatus::kSucceeded) << done.error.value_or("");
   }
   std::int64_t Jobs() { return static_cast<std::int64_t>(jobs_->List(std::nullopt, 0, 1000).size()); }
-  static ErrorCode CodeOf(const std::function<void()>& f) {
-    try {
-      f();
-    } catch (const Error& e) {
-      return e.code();
-    }
-    ADD_FAILURE() << "no error";
-    return ErrorCode::kInternal;
-  }
-
   testing::TempDir dir_;
   FakeClock clock_;
   std::unique_ptr<storage::Store> store_;

@@ -15,9 +15,12 @@
 #include "schema/error.h"
 #include "services/grid/grid_service.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/error_of.h"
 
 namespace anchordb::services {
 namespace {
+
+using testing::ErrorOf;
 
 constexpr std::int64_t kStartNs = 1'700'000'000'000'000'000LL;
 
@@ -44,16 +47,6 @@ class FeatureServiceTest : public ::testing::Test {
     q.limit = 10000;
     return static_cast<int>(features_->List("home", q).features.size());
   }
-  static Error ErrorOf(const std::function<void()>& f) {
-    try {
-      f();
-    } catch (const Error& e) {
-      return e;
-    }
-    ADD_FAILURE() << "no error";
-    return Error(ErrorCode::kInternal, "none");
-  }
-
   testing::TempDir dir_;
   FakeClock clock_;
   std::unique_ptr<storage::Store> store_;

@@ -16,9 +16,12 @@
 #include "storage/repositories.h"
 #include "storage/store.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/error_of.h"
 
 namespace anchordb::services {
 namespace {
+
+using testing::CodeOf;
 
 using storage::Connection;
 using storage::Statement;
@@ -38,15 +41,6 @@ class forgetting_job : public ::testing::Test {
       s.Step();
       return s.Int(0);
     });
-  }
-  static ErrorCode CodeOf(const std::function<void()>& f) {
-    try {
-      f();
-    } catch (const Error& e) {
-      return e.code();
-    }
-    ADD_FAILURE() << "no error";
-    return ErrorCode::kInternal;
   }
   testing::TempDir dir_;
   std::unique_ptr<storage::Store> store_;

@@ -18,9 +18,12 @@
 #include "schema/error.h"
 #include "storage/connection.h"
 #include "tests/support/pg_scratch.h"
+#include "tests/support/error_of.h"
 
 namespace anchordb::storage {
 namespace {
+
+using testing::CodeOf;
 
 // This suite stops and restarts its server: it has one of its own (tests/support/pg_scratch.h), not the shared one.
 using ScratchServer = testing::PgScratch;
@@ -34,15 +37,6 @@ class PostgresConnectionTest : public ::testing::Test {
     c_->Exec("DROP SCHEMA IF EXISTS t CASCADE; CREATE SCHEMA t; SET search_path = t");
   }
 
-  static ErrorCode CodeOf(const std::function<void()>& f) {
-    try {
-      f();
-    } catch (const Error& e) {
-      return e.code();
-    }
-    ADD_FAILURE() << "no error";
-    return ErrorCode::kInternal;
-  }
 
   static std::unique_ptr<ScratchServer> server_;
   std::unique_ptr<Connection> c_;
