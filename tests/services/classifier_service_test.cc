@@ -12,8 +12,9 @@
 #include "schema/error.h"
 #include "services/features/feature_service.h"
 #include "services/grid/grid_service.h"
-#include "tests/support/temp_dir.h"
 #include "tests/support/error_of.h"
+#include "tests/support/temp_dir.h"
+#include "tests/support/test_store.h"
 
 namespace anchordb::services {
 namespace {
@@ -25,11 +26,8 @@ constexpr std::int64_t kStartNs = 1'700'000'000'000'000'000LL;
 class ClassifierServiceTest : public ::testing::Test {
  protected:
   ClassifierServiceTest() : clock_(kStartNs) {
-    storage::StoreOptions so;
-    so.path = dir_.File("classifiers.sqlite");
-    store_ = std::make_unique<storage::Store>(so);
+    store_ = testing::OpenStoreWithMaps(dir_.File("classifiers.sqlite"), {"home"});
     grid_ = std::make_unique<GridService>(*store_, ServiceLimits{}, GridDefaults{}, clock_);
-    grid_->CreateMap({"home", "test"});
     jobs_ = std::make_unique<JobService>(*store_, JobSettings{}, clock_);
     features_ = std::make_unique<FeatureService>(*store_, *jobs_, FeatureSettings{}, clock_);
     classifiers_ = std::make_unique<ClassifierService>(*store_, *jobs_, *features_, *grid_, clock_);

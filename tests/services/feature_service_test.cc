@@ -13,9 +13,9 @@
 #include <set>
 
 #include "schema/error.h"
-#include "services/grid/grid_service.h"
-#include "tests/support/temp_dir.h"
 #include "tests/support/error_of.h"
+#include "tests/support/temp_dir.h"
+#include "tests/support/test_store.h"
 
 namespace anchordb::services {
 namespace {
@@ -27,10 +27,7 @@ constexpr std::int64_t kStartNs = 1'700'000'000'000'000'000LL;
 class FeatureServiceTest : public ::testing::Test {
  protected:
   FeatureServiceTest() : clock_(kStartNs) {
-    storage::StoreOptions so;
-    so.path = dir_.File("features.sqlite");
-    store_ = std::make_unique<storage::Store>(so);
-    GridService(*store_, {}, {}).CreateMap({"home", "test"});
+    store_ = testing::OpenStoreWithMaps(dir_.File("features.sqlite"), {"home"});
     jobs_ = std::make_unique<JobService>(*store_, JobSettings{}, clock_);
     features_ = std::make_unique<FeatureService>(*store_, *jobs_, FeatureSettings{}, clock_);
   }
