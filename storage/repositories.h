@@ -8,6 +8,7 @@
 
 #include "schema/types.h"
 #include "storage/connection.h"
+#include "storage/layer_meta.h"
 
 namespace anchordb::storage {
 
@@ -28,7 +29,7 @@ struct LayerRecord {
   std::string map_id;
   std::string name;
   LayerKind kind = LayerKind::kOccupancy;
-  std::string meta_json;
+  StoredLayerMeta meta;  // the alternative of `kind` (storage/layer_codec.h keeps the two in step)
   std::string data;  // blob (empty when not loaded, or for fused layers)
   std::int64_t version = 1;
   std::int64_t created_ns = 0;
@@ -37,8 +38,15 @@ struct LayerRecord {
 };
 void InsertLayer(Connection& c, const LayerRecord& layer, const std::vector<std::string>& depends_on);
 std::optional<LayerRecord> FindLayer(Connection& c, const std::string& map_id, const std::string& name, bool with_data);
+// The layer's row without its blob in exactly one statement (for Store::ReadOneStatement). `complete` is false when
+// the layer's metadata has list rows (fused operands, label names, ignored YAML keys) that only FindLayer reads.
+struct LayerRecordRow {
+  LayerRecord record;
+  bool complete = true;
+};
+std::optional<LayerRecordRow> FindLayerRow(Connection& c, const std::string& map_id, const std::string& name);
 std::vector<LayerRecord> ListLayers(Connection& c, const std::string& map_id);
-// Replaces meta and data and sets version/updated_ns. kConflict when `expected_version` is not the stored one.
+// Replaces meta (of the same kind) and data and sets version/updated_ns. kConflict when `expected_version` is not the stored one.
 void UpdateLayer(Connection& c, const LayerRecord& layer, std::int64_t expected_version);
 std::vector<std::string> LayerDependents(Connection& c, const std::string& map_id, const std::string& name);
 bool DeleteLayer(Connection& c, const std::string& map_id, const std::string& name);

@@ -111,9 +111,9 @@ std::vector<LayerInfo> GridService::ListLayers(const std::string& map) {
 }
 
 LayerInfo GridService::GetLayer(const std::string& map, const std::string& layer, bool with_statistics) {
-  if (!with_statistics) {  // the common read in one statement; a miss is explained (which of map and layer) below
-    const auto record = store_.ReadOneStatement([&](storage::Connection& c) { return storage::FindLayer(c, map, layer, false); });
-    if (record) return grid_detail::DescribeLayer(*record);
+  if (!with_statistics) {  // the common read in one statement; a miss (which of map and layer) and a layer with lists below
+    const auto row = store_.ReadOneStatement([&](storage::Connection& c) { return storage::FindLayerRow(c, map, layer); });
+    if (row && row->complete) return grid_detail::DescribeLayer(row->record);
   }
   return store_.Read([&](storage::Connection& c) {
     const MapLayers layers(c, map, /*check_map=*/false);

@@ -49,7 +49,7 @@ class MapLayers {
 
 struct LayerKindOps {
   LayerKind kind = LayerKind::kOccupancy;
-  // Fills kind, meta_json and data of the new layer `record` from `spec` (this kind's alternative), checking the
+  // Fills kind, meta and data of the new layer `record` from `spec` (this kind's alternative), checking the
   // layers it builds on; returns the names of the layers it depends on. nullptr: layers of this kind are made
   // another way (occupancy layers are imported).
   std::vector<std::string> (*create)(const MapLayers& layers, const LayerSpec& spec, storage::LayerRecord& record) =

@@ -3,7 +3,7 @@
 // else (a crash, another exception, a sanitizer report, a leak) is a finding.
 //   blob codec (storage rows) | depth PNG | mask PNG | raw depth | map_server YAML | map image (PGM/PNG) |
 //   JSON object + pose / polygons / log-odds parameters | ISO 8601 times | furniture-graph hypotheses blob |
-//   layer record of any kind, whole or metadata only (selector + metadata JSON + blob, see stored_codecs.h) |
+//   layer record of any kind, whole or metadata only (selector + grid size + metadata alternative + blob, see stored_codecs.h) |
 //   OctoMap .bt | OctoMap .ot | point cloud (PCD ascii / binary / binary_compressed, PLY)
 // Inputs: the committed corpus tests/fuzz/corpus/decoders (see README.md).
 #include <cstddef>

@@ -68,20 +68,32 @@ inline LayerKind KindDecodedBy(std::uint8_t selector) {
   return static_cast<LayerKind>((selector / 8) % 4);
 }
 
-// A layer-record input: byte 0 the decoder selector (LayerDecoder), bytes 1-2 the length n of the metadata JSON
-// (little-endian), then n bytes of metadata, then the blob.
+// A layer-record input: byte 0 the decoder selector (LayerDecoder), bytes 1-4 the grid's width and height in cells
+// (two signed 16-bit integers, little-endian), byte 5 which metadata alternative the record holds (% 4, in the order
+// of storage::StoredLayerMeta: it may disagree with the kind), then the blob. The metadata's other values are fixed:
+// since migration 0019 they are typed columns that the database checks, not bytes a decoder parses.
 struct LayerInput {
   std::uint8_t selector = 0;
-  std::string meta_json;
+  int width_cells = 0;
+  int height_cells = 0;
+  std::uint8_t alternative = 0;
   std::string blob;
 
   LayerDecoder decoder() const { return static_cast<LayerDecoder>(selector % 8); }
-  // The record as the repository would return it (name, kind, meta, blob).
+  // The record as the repository would return it (name, kind, metadata, blob).
   storage::LayerRecord Record() const {
     storage::LayerRecord record;
     record.name = "fuzzed";
     record.kind = KindDecodedBy(selector);
-    record.meta_json = meta_json;
+    GridGeometry g;
+    g.width_cells = width_cells;
+    g.height_cells = height_cells;
+    switch (alternative % 4) {
+      case 0: record.meta = storage::OccupancyLayerMeta{g, {}, {"frame_id"}}; break;
+      case 1: record.meta = storage::ProbabilityLayerMeta{g, "floor", {}, 2}; break;
+      case 2: record.meta = storage::FusedLayerMeta{g, FuseOp::kAndNot, {{"floor", 0.5}}}; break;
+      default: record.meta = storage::LabelLayerMeta{g, "floor", {{1, "kitchen"}}}; break;
+    }
     record.data = blob;
     return record;
   }
@@ -89,22 +101,27 @@ struct LayerInput {
 
 inline LayerInput SplitLayerInput(std::string_view in) {
   LayerInput out;
-  if (in.size() < 3) return out;
-  out.selector = static_cast<std::uint8_t>(in[0]);
-  const std::size_t n = static_cast<std::uint8_t>(in[1]) | (static_cast<std::size_t>(static_cast<std::uint8_t>(in[2])) << 8);
-  in.remove_prefix(3);
-  out.meta_json = std::string(in.substr(0, n));
-  if (n < in.size()) out.blob = std::string(in.substr(n));
+  if (in.size() < 6) return out;
+  const auto byte = [&](std::size_t i) { return static_cast<std::uint8_t>(in[i]); };
+  out.selector = byte(0);
+  out.width_cells = static_cast<std::int16_t>(byte(1) | (byte(2) << 8));
+  out.height_cells = static_cast<std::int16_t>(byte(3) | (byte(4) << 8));
+  out.alternative = byte(5);
+  out.blob = std::string(in.substr(6));
   return out;
 }
 
-inline std::string JoinLayerInput(std::uint8_t selector, const std::string& meta_json, const std::string& blob) {
-  if (meta_json.size() > 0xffff) throw std::length_error("layer metadata longer than a layer input can hold");
+inline std::string JoinLayerInput(std::uint8_t selector, const GridGeometry& g, std::size_t alternative,
+                                  const std::string& blob) {
+  if (g.width_cells > 0x7fff || g.height_cells > 0x7fff) throw std::length_error("a grid larger than a layer input can hold");
   std::string out;
   out.push_back(static_cast<char>(selector));
-  out.push_back(static_cast<char>(meta_json.size() & 0xff));
-  out.push_back(static_cast<char>((meta_json.size() >> 8) & 0xff));
-  return out + meta_json + blob;
+  for (const int v : {g.width_cells, g.height_cells}) {
+    out.push_back(static_cast<char>(v & 0xff));
+    out.push_back(static_cast<char>((v >> 8) & 0xff));
+  }
+  out.push_back(static_cast<char>(alternative));
+  return out + blob;
 }
 
 }  // namespace anchordb::fuzz

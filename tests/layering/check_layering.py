@@ -29,7 +29,6 @@ JSON_DEBT = {
     "services/scene/scene_documents_internal.h",
     "services/segmentation/segmentation_request.cc",
     "services/shapes/shape_service.cc",
-    "storage/layer_codec.cc",
 }
 # Modules whose own headers and sources may not include the named prefixes (api -> services -> engine, storage;
 # api reaches stored types only through the service headers).

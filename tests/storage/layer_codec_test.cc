@@ -1,5 +1,5 @@
-// The record format of grid layers (storage/layer_codec.h): every kind round-trips through a LayerRecord, and rows
-// that do not match the format are kInternal naming the layer.
+// The record format of grid layers (storage/layer_codec.h): every kind round-trips through a LayerRecord, and records
+// whose kind, metadata and blob do not agree are kInternal naming the layer.
 #include "storage/layer_codec.h"
 
 #include <gtest/gtest.h>
@@ -7,7 +7,6 @@
 #include <functional>
 
 #include "schema/error.h"
-#include "schema/json_io.h"
 #include "storage/blob_codec.h"
 
 namespace anchordb::storage {
@@ -40,7 +39,7 @@ Layer RoundTrip(const Layer& layer, LayerKind kind, Decode decode) {
   const Layer back = decode(first);
   LayerRecord second = Named("l");
   EncodeLayer(back, second);
-  EXPECT_EQ(second.meta_json, first.meta_json);
+  EXPECT_EQ(second.meta.index(), static_cast<std::size_t>(kind));
   EXPECT_EQ(second.data, first.data);
   EXPECT_EQ(DecodeGeometry(first), Geometry());
   return back;
@@ -92,13 +91,9 @@ TEST(LayerCodecTest, LabelRoundTrips) {
   EXPECT_EQ(back.meta.labels, layer.meta.labels);
 }
 
-TEST(LayerCodecTest, TheMetadataIsTheDocumentedJson) {
+TEST(LayerCodecTest, TheCellsAreAnArrayInTheBlobEnvelope) {
   LayerRecord r = Named("p");
   EncodeLayer(ProbabilityLayer{{Geometry(), "occ", {}, 2}, std::vector<float>(6, 0.f)}, r);
-  const json::Json meta = json::Json::parse(r.meta_json);
-  EXPECT_EQ(meta, json::Json::parse(R"({"geometry":{"width_cells":3,"height_cells":2,"resolution_m":0.05,
-      "origin":[-1.25,2.5,0.125]},"base":"occ","log_odds":{"hit":0.7,"miss":0.4,"clamp_min":0.12,"clamp_max":0.97},
-      "observations":2})"));
   const DecodedBlob blob = DecodeBlob(r.data);
   EXPECT_EQ(blob.element, BlobElement::kF32);
   EXPECT_EQ(blob.shape, (std::vector<std::uint32_t>{2, 3}));
@@ -119,16 +114,18 @@ TEST(LayerCodecTest, RowsNotMatchingTheFormatAreInternalErrors) {
   EncodeLayer(LabelLayer{{Geometry(), "occ", {{1, "hall"}}}, std::vector<std::uint16_t>(6, 0)}, good);
 
   LayerRecord r = good;
-  r.meta_json = "not json";
-  ExpectInternal([&] { DecodeLabelMeta(r); }, "unparsable metadata");
-  r.meta_json = R"({"geometry":{"width_cells":"3"}})";
-  ExpectInternal([&] { DecodeGeometry(r); }, "mistyped field");
-  r.meta_json = R"({"geometry":{"width_cells":-3,"height_cells":2,"resolution_m":1,"origin":[0,0,0]}})";
+  r.meta = ProbabilityLayerMeta{Geometry(), "occ", {}, 0};
+  ExpectInternal([&] { DecodeLabelMeta(r); }, "metadata of another kind");
+  ExpectInternal([&] { DecodeGeometry(r); }, "metadata of another kind (geometry)");
+  r = good;
+  std::get<LabelLayerMeta>(r.meta).geometry.width_cells = -3;
   ExpectInternal([&] { DecodeGeometry(r); }, "negative size");
   r = good;
-  r.meta_json = R"({"geometry":{"width_cells":3,"height_cells":2,"resolution_m":1,"origin":[0,0,0]},"base":"occ",
-                    "labels":{"01":"x"}})";
-  ExpectInternal([&] { DecodeLabelMeta(r); }, "non-canonical label id");
+  std::get<LabelLayerMeta>(r.meta).geometry.resolution_m = 0;
+  ExpectInternal([&] { DecodeLabelMeta(r); }, "zero resolution");
+  r = good;
+  std::get<LabelLayerMeta>(r.meta).labels[70000] = "x";
+  ExpectInternal([&] { DecodeLabelMeta(r); }, "label id out of range");
   r = good;
   r.kind = LayerKind::kProbability;
   ExpectInternal([&] { DecodeLabelMeta(r); }, "wrong kind");
@@ -139,8 +136,8 @@ TEST(LayerCodecTest, RowsNotMatchingTheFormatAreInternalErrors) {
   ExpectInternal([&] { DecodeLabelLayer(r); }, "wrong element");
   LayerRecord fused = Named("bad");
   EncodeLayer(FusedLayerMeta{Geometry(), FuseOp::kOr, {{"a", 0.5}, {"b", 0.5}}}, fused);
-  fused.meta_json.replace(fused.meta_json.find("\"or\""), 4, "\"nand\"");
-  ExpectInternal([&] { DecodeFusedMeta(fused); }, "unknown op");
+  std::get<FusedLayerMeta>(fused.meta).operands.clear();
+  ExpectInternal([&] { DecodeFusedMeta(fused); }, "no operands");
 }
 
 }  // namespace

@@ -28,7 +28,7 @@ LayerRecord Layer(const std::string& map, const std::string& name, std::string d
   l.map_id = map;
   l.name = name;
   l.kind = LayerKind::kProbability;
-  l.meta_json = "{}";
+  l.meta = ProbabilityLayerMeta{{}, "occ", {}, 0};
   l.data = std::move(data);
   l.created_ns = l.updated_ns = 5;
   return l;
