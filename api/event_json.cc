@@ -5,7 +5,6 @@
 #include <cmath>
 
 #include "api/route_params.h"
-#include "services/events/event_details.h"
 #include "schema/error.h"
 
 namespace anchordb::api {
@@ -132,13 +131,41 @@ ReanalyseRequest ParseReanalyseRequest(const Json& body) {
   return r;
 }
 
+namespace {
+
+// {"segment": {centroid_m, extent_m, points}, "from_m", "size_similarity", "removal_event", "visibility":
+// {confirmed, seen_through, hidden, unmeasured, outside}, "background_scene", "labels"}, each part present when it
+// applies (the keys the stored JSON document of schemas before 0020 had).
+Json EventDetailsJson(const EventDetails& d) {
+  Json j = Json::object();
+  if (d.segment) {
+    j["segment"] = {{"centroid_m", Vec3(d.segment->centroid_m)}, {"extent_m", Vec3(d.segment->extent_m)},
+                    {"points", d.segment->points}};
+  }
+  if (d.move) {
+    j["from_m"] = Vec3(d.move->from_m);
+    j["size_similarity"] = d.move->size_similarity;
+    j["removal_event"] = d.move->removal_event ? Json(*d.move->removal_event) : Json(nullptr);
+  }
+  if (d.visibility) {
+    const engine::Visibility& v = *d.visibility;
+    j["visibility"] = {{"confirmed", v.confirmed}, {"seen_through", v.seen_through}, {"hidden", v.hidden},
+                       {"unmeasured", v.unmeasured}, {"outside", v.outside}};
+  }
+  if (d.background_scene) j["background_scene"] = *d.background_scene;
+  if (d.labels) j["labels"] = *d.labels;
+  return j;
+}
+
+}  // namespace
+
 Json EventJson(const EventView& e) {
   Json evidence = Json::array();
   for (const auto& k : e.evidence) evidence.push_back({{"keyframe", k.keyframe_id}, {"role", k.role}});
   return {{"id", e.id}, {"type", e.type}, {"detection", e.detection}, {"stamp_ns", e.stamp_ns},
           {"scene", OrNull(e.scene_id)}, {"action_layer", OrNull(e.action_layer)}, {"instance", OrNull(e.instance_id)},
           {"segment", OrNull(e.segment_id)}, {"label", OrNull(e.label)}, {"explanation", e.explanation},
-          {"details", Json::parse(EncodeEventDetails(e.details))}, {"evidence", evidence}};
+          {"details", EventDetailsJson(e.details)}, {"evidence", evidence}};
 }
 
 Json EventPageJson(const EventPage& page) { return PageJson("events", page.events, page.next_after, EventJson); }

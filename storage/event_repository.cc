@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "storage/dialect.h"
+#include "storage/event_details_columns.h"
 #include "schema/error.h"
 
 namespace anchordb::storage {
@@ -36,12 +37,20 @@ InstanceRecord ReadInstance(const Statement& s, bool with_sample, int at = 0) {
   return r;
 }
 
-constexpr const char* kEventColumns =
-    "id, map_id, type, detection, stamp_ns, scene_id, action_layer, instance_id, segment_id, label, explanation, "
-    "details, pinned, created_ns";
+// The event's own columns, then its detail columns (event_details_columns.h) from kEventDetailsAt.
+const std::string kEventColumns =
+    std::string("id, map_id, type, detection, stamp_ns, scene_id, action_layer, instance_id, segment_id, label, "
+                "explanation, pinned, created_ns, ") + event_details::kColumns;
+constexpr int kEventDetailsAt = 13;
 
-EventRecord ReadEvent(const Statement& s) {
-  EventRecord e;
+struct EventRow {
+  EventRecord event;
+  std::int64_t label_weight_rows = 0;  // still to load
+};
+
+EventRow ReadEvent(const Statement& s) {
+  EventRow row;
+  EventRecord& e = row.event;
   e.id = s.Int(0);
   e.map_id = s.Text(1);
   e.type = s.Text(2);
@@ -53,16 +62,23 @@ EventRecord ReadEvent(const Statement& s) {
   e.segment_id = OptionalInt(s, 8);
   if (!s.IsNull(9)) e.label = s.Text(9);
   e.explanation = s.Text(10);
-  e.details_json = s.Text(11);
-  e.pinned = s.Int(12) != 0;
-  e.created_ns = s.Int(13);
-  return e;
+  e.pinned = s.Int(11) != 0;
+  e.created_ns = s.Int(12);
+  row.label_weight_rows = event_details::Read(s, kEventDetailsAt, e.details);
+  return row;
 }
 
 void LoadEvidence(Connection& c, EventRecord& e) {
   Statement s(c, "SELECT keyframe_id, role FROM event_evidence WHERE event_id = ? ORDER BY role DESC, keyframe_id");
   s.Bind(1, e.id);
   while (s.Step()) e.evidence.push_back({s.Int(0), s.Text(1)});
+}
+
+// The evidence keyframes and the label weights of an event read by ReadEvent.
+EventRecord Complete(Connection& c, EventRow row) {
+  LoadEvidence(c, row.event);
+  if (row.label_weight_rows > 0) event_details::LoadLabelWeights(c, row.event.id, row.event.details);
+  return std::move(row.event);
 }
 
 }  // namespace
@@ -262,16 +278,21 @@ WhereInputs ReadWhereInputs(Connection& c, const std::string& map_id, const std:
 }
 
 std::int64_t InsertEvent(Connection& c, const EventRecord& e) {
+  std::string placeholders = "?";
+  for (int i = 1; i < 12 + event_details::kColumnCount; ++i) placeholders += ", ?";
   Statement s(c, "INSERT INTO events (map_id, type, detection, stamp_ns, scene_id, action_layer, instance_id, segment_id, "
-                 "label, explanation, details, pinned, created_ns) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING id");
+                 "label, explanation, pinned, created_ns, " + std::string(event_details::kColumns) + ") VALUES (" +
+                     placeholders + ") RETURNING id");
   s.Bind(1, e.map_id).Bind(2, e.type).Bind(3, e.detection).Bind(4, e.stamp_ns);
   BindOptional(s, 5, e.scene_id);
   BindOptional(s, 6, e.action_layer);
   BindOptional(s, 7, e.instance_id);
   BindOptional(s, 8, e.segment_id);
   if (e.label) s.Bind(9, *e.label); else s.BindNull(9);
-  s.Bind(10, e.explanation).Bind(11, e.details_json).Bind(12, static_cast<std::int64_t>(e.pinned)).Bind(13, e.created_ns);
+  s.Bind(10, e.explanation).Bind(11, static_cast<std::int64_t>(e.pinned)).Bind(12, e.created_ns);
+  event_details::Bind(s, 13, e.details);
   const std::int64_t id = s.RunReturningId();
+  event_details::InsertLabelWeights(c, id, e.details);
   for (const auto& ev : e.evidence) {
     Statement(c, "INSERT INTO event_evidence (event_id, keyframe_id, role) VALUES (?, ?, ?) ON CONFLICT DO NOTHING")
         .Bind(1, id).Bind(2, ev.keyframe_id).Bind(3, ev.role).Run();
@@ -280,16 +301,18 @@ std::int64_t InsertEvent(Connection& c, const EventRecord& e) {
 }
 
 std::optional<EventRecord> FindEvent(Connection& c, const std::string& map_id, std::int64_t id) {
-  Statement s(c, std::string("SELECT ") + kEventColumns + " FROM events WHERE map_id = ? AND id = ?");
-  s.Bind(1, map_id).Bind(2, id);
-  if (!s.Step()) return std::nullopt;
-  EventRecord e = ReadEvent(s);
-  LoadEvidence(c, e);
-  return e;
+  std::optional<EventRow> row;
+  {
+    Statement s(c, "SELECT " + kEventColumns + " FROM events WHERE map_id = ? AND id = ?");
+    s.Bind(1, map_id).Bind(2, id);
+    if (!s.Step()) return std::nullopt;
+    row = ReadEvent(s);
+  }
+  return Complete(c, std::move(*row));
 }
 
 std::vector<EventRecord> ListEvents(Connection& c, const std::string& map_id, const EventFilter& f) {
-  std::string sql = std::string("SELECT ") + kEventColumns + " FROM events WHERE map_id = ?1 AND id > ?2";
+  std::string sql = "SELECT " + kEventColumns + " FROM events WHERE map_id = ?1 AND id > ?2";
   if (f.since_ns) sql += " AND stamp_ns >= ?3";
   if (f.until_ns) sql += " AND stamp_ns <= ?4";
   if (f.type) sql += " AND type = ?5";
@@ -303,9 +326,11 @@ std::vector<EventRecord> ListEvents(Connection& c, const std::string& map_id, co
   if (f.type) s.Bind(5, *f.type);
   if (f.instance_id) s.Bind(6, *f.instance_id);
   if (f.scene_id) s.Bind(7, *f.scene_id);
+  std::vector<EventRow> rows;
+  while (s.Step()) rows.push_back(ReadEvent(s));
   std::vector<EventRecord> out;
-  while (s.Step()) out.push_back(ReadEvent(s));
-  for (auto& e : out) LoadEvidence(c, e);
+  out.reserve(rows.size());
+  for (EventRow& row : rows) out.push_back(Complete(c, std::move(row)));
   return out;
 }
 
@@ -322,12 +347,6 @@ void SetEventInstance(Connection& c, std::int64_t event_id, std::int64_t instanc
 bool DeleteEvent(Connection& c, const std::string& map_id, std::int64_t event_id) {
   Statement(c, "DELETE FROM events WHERE map_id = ? AND id = ?").Bind(1, map_id).Bind(2, event_id).Run();
   return c.Changes() > 0;
-}
-
-void UpdateEventExplanation(Connection& c, std::int64_t event_id, const std::string& type, const std::string& detection,
-                            const std::string& explanation, const std::string& details_json) {
-  Statement(c, "UPDATE events SET type = ?, detection = ?, explanation = ?, details = ? WHERE id = ?")
-      .Bind(1, type).Bind(2, detection).Bind(3, explanation).Bind(4, details_json).Bind(5, event_id).Run();
 }
 
 std::optional<std::int64_t> LatestKeyframeId(Connection& c, std::int64_t scene_id) {

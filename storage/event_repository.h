@@ -1,7 +1,9 @@
 #pragma once
 // SQL for segments, object instances with their position history, change events with their evidence keyframes,
 // and jobs (migration 0004).
+#include <array>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -90,6 +92,33 @@ struct EvidenceRecord {
   std::int64_t keyframe_id = 0;
   std::string role;  // before | after
 };
+// The details of a change event (migration 0020: typed columns of the events row and event_label_weights), each
+// part present when it applies.
+struct EventSegmentDetails {  // the segment that showed the change
+  std::array<double, 3> centroid_m{};
+  std::array<double, 3> extent_m{};
+  std::int64_t points = 0;
+};
+struct EventMoveDetails {  // an inferred move
+  std::array<double, 3> from_m{};
+  double size_similarity = 0.0;
+  std::optional<std::int64_t> removal_event;
+};
+struct EventVisibilityDetails {  // a removal seen through: pixels of the segment by outcome
+  std::int64_t outside = 0;
+  std::int64_t confirmed = 0;
+  std::int64_t seen_through = 0;
+  std::int64_t hidden = 0;
+  std::int64_t unmeasured = 0;
+};
+struct EventDetailsRecord {
+  std::optional<EventSegmentDetails> segment;
+  std::optional<EventMoveDetails> move;
+  std::optional<EventVisibilityDetails> visibility;
+  std::optional<std::int64_t> background_scene;               // re-analysis: the newer model whose background was applied
+  std::optional<std::map<std::string, double>> label_weights;  // a label event: the distribution after it
+};
+
 struct EventRecord {
   std::int64_t id = 0;
   std::string map_id;
@@ -102,7 +131,7 @@ struct EventRecord {
   std::optional<std::int64_t> segment_id;
   std::optional<std::string> label;
   std::string explanation;
-  std::string details_json = "{}";
+  EventDetailsRecord details;
   bool pinned = false;
   std::int64_t created_ns = 0;
   std::vector<EvidenceRecord> evidence;
@@ -126,8 +155,6 @@ void SetEventInstance(Connection& c, std::int64_t event_id, std::int64_t instanc
 // Deletes one event of the map with its evidence rows (instance_history.event_id of entries it caused becomes NULL);
 // false when the map has no such event.
 bool DeleteEvent(Connection& c, const std::string& map_id, std::int64_t event_id);
-void UpdateEventExplanation(Connection& c, std::int64_t event_id, const std::string& type, const std::string& detection,
-                            const std::string& explanation, const std::string& details_json);
 
 // Keyframes: the latest of a scene (before `before_id` when given), pinning and relevance.
 std::optional<std::int64_t> LatestKeyframeId(Connection& c, std::int64_t scene_id);

@@ -114,8 +114,10 @@ void DeleteEvents(Connection& c, ForgetReport& r, std::int64_t cutoff, const For
   std::size_t done = 0;
   for (std::int64_t id : ids) {
     r.bytes_freed_estimate += SumBytes(
-        c, "SELECT length(details) + length(explanation) + coalesce(length(label), 0) + 64 + "
-           "(SELECT 24 * count(*) FROM event_evidence WHERE event_id = ?1) FROM events WHERE id = ?1", id);
+        c, "SELECT length(explanation) + coalesce(length(label), 0) + 64 + 8 * 19 + "
+           "(SELECT 24 * count(*) FROM event_evidence WHERE event_id = ?1) + "
+           "(SELECT coalesce(sum(length(label) + 16), 0) FROM event_label_weights WHERE event_id = ?1) "
+           "FROM events WHERE id = ?1", id);
     Statement d(c, "DELETE FROM events WHERE id = ?");  // evidence cascades; instance_history.event_id -> NULL
     d.Bind(1, id).Run();
     r.events_deleted.push_back(id);

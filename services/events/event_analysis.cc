@@ -72,7 +72,7 @@ storage::EventRecord EventRecordOf(const std::string& map, const engine::NewEven
     d.move = MoveEvidence{e.move->from_m, e.move->size_similarity, std::nullopt};
     if (e.move->removal_event) d.move->removal_event = Resolve(*e.move->removal_event, event_ids);
   }
-  r.details_json = EncodeEventDetails(d);
+  r.details = StoredEventDetails(d);
   return r;
 }
 

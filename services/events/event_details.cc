@@ -1,59 +1,40 @@
-// The details document of change events (see event_details.h).
+// The details of change events between the store's record and the service's view (see event_details.h).
 #include "services/events/event_details.h"
-
-#include "schema/json_io.h"
-#include "storage/event_repository.h"
 
 namespace anchordb::services {
 
-using json::Json;
-
 namespace {
 
-Json Vec3Json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-Eigen::Vector3d Vec3Of(const Json& j) { return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()}; }
+std::array<double, 3> Stored(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+Eigen::Vector3d Vec3(const std::array<double, 3>& v) { return {v[0], v[1], v[2]}; }
 
 }  // namespace
 
-std::string EncodeEventDetails(const EventDetails& d) {
-  Json j = Json::object();
-  if (d.segment) {
-    j["segment"] = {{"centroid_m", Vec3Json(d.segment->centroid_m)}, {"extent_m", Vec3Json(d.segment->extent_m)},
-                    {"points", d.segment->points}};
-  }
-  if (d.move) {
-    j["from_m"] = Vec3Json(d.move->from_m);
-    j["size_similarity"] = d.move->size_similarity;
-    j["removal_event"] = d.move->removal_event ? Json(*d.move->removal_event) : Json(nullptr);
-  }
+storage::EventDetailsRecord StoredEventDetails(const EventDetails& d) {
+  storage::EventDetailsRecord r;
+  if (d.segment) r.segment = storage::EventSegmentDetails{Stored(d.segment->centroid_m), Stored(d.segment->extent_m), d.segment->points};
+  if (d.move) r.move = storage::EventMoveDetails{Stored(d.move->from_m), d.move->size_similarity, d.move->removal_event};
   if (d.visibility) {
     const engine::Visibility& v = *d.visibility;
-    j["visibility"] = {{"confirmed", v.confirmed}, {"seen_through", v.seen_through}, {"hidden", v.hidden},
-                       {"unmeasured", v.unmeasured}, {"outside", v.outside}};
+    r.visibility = storage::EventVisibilityDetails{v.outside, v.confirmed, v.seen_through, v.hidden, v.unmeasured};
   }
-  if (d.background_scene) j["background_scene"] = *d.background_scene;
-  if (d.labels) j["labels"] = *d.labels;
-  return j.dump();
+  r.background_scene = d.background_scene;
+  r.label_weights = d.labels;
+  return r;
 }
 
-EventDetails DecodeEventDetails(const std::string& details_json) {
-  const Json j = Json::parse(details_json);
+EventDetails EventDetailsOf(const storage::EventDetailsRecord& r) {
   EventDetails d;
-  if (j.contains("segment")) {
-    const Json& s = j["segment"];
-    d.segment = engine::SegmentSummary{Vec3Of(s.at("centroid_m")), Vec3Of(s.at("extent_m")), s.at("points").get<std::int64_t>()};
+  if (r.segment) d.segment = engine::SegmentSummary{Vec3(r.segment->centroid_m), Vec3(r.segment->extent_m), r.segment->points};
+  if (r.move) d.move = MoveEvidence{Vec3(r.move->from_m), r.move->size_similarity, r.move->removal_event};
+  if (r.visibility) {
+    const storage::EventVisibilityDetails& v = *r.visibility;
+    d.visibility = engine::Visibility{static_cast<int>(v.outside), static_cast<int>(v.confirmed),
+                                      static_cast<int>(v.seen_through), static_cast<int>(v.hidden),
+                                      static_cast<int>(v.unmeasured)};
   }
-  if (j.contains("from_m")) {
-    d.move = MoveEvidence{Vec3Of(j["from_m"]), j.value("size_similarity", 0.0), std::nullopt};
-    if (j.contains("removal_event") && !j["removal_event"].is_null()) d.move->removal_event = j["removal_event"].get<std::int64_t>();
-  }
-  if (j.contains("visibility")) {
-    const Json& v = j["visibility"];
-    d.visibility = engine::Visibility{v.at("outside").get<int>(), v.at("confirmed").get<int>(), v.at("seen_through").get<int>(),
-                                      v.at("hidden").get<int>(), v.at("unmeasured").get<int>()};
-  }
-  if (j.contains("background_scene")) d.background_scene = j["background_scene"].get<std::int64_t>();
-  if (j.contains("labels")) d.labels = j["labels"].get<engine::LabelWeights>();
+  d.background_scene = r.background_scene;
+  d.labels = r.label_weights;
   return d;
 }
 
@@ -71,7 +52,7 @@ std::int64_t InsertLabelledEvent(storage::Connection& c, const std::string& map,
   e.explanation = explanation;
   EventDetails details;
   details.labels = distribution;
-  e.details_json = EncodeEventDetails(details);
+  e.details = StoredEventDetails(details);
   return storage::InsertEvent(c, e);
 }
 

@@ -1,20 +1,19 @@
 #pragma once
-// The details document of a change event as stored and as served (GET /events): {"segment": {centroid_m, extent_m,
-// points}, "from_m", "size_similarity", "removal_event", "visibility": {confirmed, seen_through, hidden, unmeasured,
-// outside}, "background_scene", "labels"}, each part present when it applies. One codec for both, so the API shows
-// exactly what was recorded.
+// The details of a change event between the store's typed record (storage::EventDetailsRecord, migration 0020) and
+// the service's EventDetails that GET /events serves (api/event_json.cc writes its JSON): the segment that showed the
+// change, an inferred move, a removal seen through, the newer model a re-analysis applied, a label event's
+// distribution afterwards; each part present when it applies.
 #include <cstdint>
 #include <string>
 
 #include "services/events/event_types.h"
 #include "storage/connection.h"
+#include "storage/event_repository.h"
 
 namespace anchordb::services {
 
-// JSON text of the document.
-std::string EncodeEventDetails(const EventDetails& details);
-// Throws (nlohmann parse errors, as for any corrupt stored document) when the text is not such a document.
-EventDetails DecodeEventDetails(const std::string& details_json);
+storage::EventDetailsRecord StoredEventDetails(const EventDetails& details);
+EventDetails EventDetailsOf(const storage::EventDetailsRecord& stored);
 
 // Inserts a 'labelled' event of `instance` (detection dialog | operator | classifier) whose details hold the
 // instance's label distribution afterwards; returns its id. One place for every source of labels.

@@ -58,7 +58,7 @@ EventView ToView(const storage::EventRecord& e) {
   v.segment_id = e.segment_id;
   v.label = e.label;
   v.explanation = e.explanation;
-  v.details = DecodeEventDetails(e.details_json);
+  v.details = EventDetailsOf(e.details);
   for (const auto& k : e.evidence) v.evidence.push_back({k.keyframe_id, k.role});
   return v;
 }

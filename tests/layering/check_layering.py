@@ -21,7 +21,6 @@ HTTP_LITERAL = re.compile(r'"((application|image|text|multipart|audio|video)/[a-
 JSON_DEBT = {
     "services/classification/classifier_service.cc",
     "services/common/stored_labels.cc",
-    "services/events/event_details.cc",
     "services/features/feature_service.cc",
     "services/furniture/furniture_graph_json.cc",
     "services/jobs/job_documents.cc",
