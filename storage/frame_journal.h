@@ -18,6 +18,20 @@ enum class JournalDepthCodec {
   kRawZstd,  // a blob (storage/blob_codec.h) of the u16 {height, width} pixels the client sent raw
 };
 
+// What the scene service needs after replaying a frame and cannot recompute from the checkpoint and the frames after
+// it: the frame's pixel counts and the settle detector's state after it (engine::FrameCounts, engine::SettleState).
+struct JournalModelAfter {
+  std::int64_t supported_px = 0;
+  std::int64_t reset_px = 0;
+  std::int64_t movable_px = 0;
+  std::int64_t dynamic_px = 0;
+  std::int64_t no_depth_px = 0;
+  std::int64_t settle_movable_at_keyframe_px = 0;
+  std::int64_t settle_reset_since_keyframe_px = 0;
+  std::int64_t settle_previous_movable_px = -1;
+  std::int64_t settle_stable_frames = 0;
+};
+
 struct JournalFrame {
   std::int64_t scene_id = 0;
   std::int64_t frame = 0;  // the model's frame count with this frame applied (1 = its first frame)
@@ -26,7 +40,7 @@ struct JournalFrame {
   std::string depth;                       // bytes as described by depth_codec
   double depth_scale = 1000.0;             // sensor units per metre the frame was applied with
   std::optional<std::string> dynamic_png;  // the 8-bit mask PNG as received
-  std::string model_after_json;            // what the caller needs after replaying the frame (opaque here)
+  JournalModelAfter model_after;
 };
 
 // Appends one frame (kConflict if the scene already has a row for that frame).
@@ -39,7 +53,7 @@ std::int64_t TrimJournal(Connection& c, std::int64_t scene_id, std::int64_t befo
 // Deletes all of the scene's rows; returns how many went.
 std::int64_t DeleteJournal(Connection& c, std::int64_t scene_id);
 // Replaces model_after of the row (scene_id, frame); false when there is no such row.
-bool UpdateJournalModelAfter(Connection& c, std::int64_t scene_id, std::int64_t frame, const std::string& model_after_json);
+bool UpdateJournalModelAfter(Connection& c, std::int64_t scene_id, std::int64_t frame, const JournalModelAfter& after);
 
 // The newest row of a scene, without its images (nullopt: none).
 struct JournalTail {

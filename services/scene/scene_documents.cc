@@ -159,35 +159,4 @@ MergeReport DecodeMergeReport(const std::string& stored, std::int64_t scene_id) 
   }
 }
 
-std::string EncodeModelAfter(const engine::FrameCounts& c, const engine::SettleState& s) {
-  return json::Json{{"counts", {{"supported", c.supported}, {"reset", c.reset}, {"movable", c.movable},
-                                {"dynamic", c.dynamic}, {"no_depth", c.no_depth}}},
-                    {"settle", {{"movable_at_keyframe", s.movable_at_keyframe},
-                                {"reset_since_keyframe", s.reset_since_keyframe},
-                                {"previous_movable", s.previous_movable}, {"stable_frames", s.stable_frames}}}}
-      .dump();
-}
-
-ModelAfter DecodeModelAfter(const std::string& stored, std::int64_t scene_id, std::int64_t frame) {
-  try {
-    const json::Json j = json::Json::parse(stored);
-    ModelAfter a;
-    const json::Json& c = j.at("counts");
-    a.counts.supported = c.at("supported").get<std::size_t>();
-    a.counts.reset = c.at("reset").get<std::size_t>();
-    a.counts.movable = c.at("movable").get<std::size_t>();
-    a.counts.dynamic = c.at("dynamic").get<std::size_t>();
-    a.counts.no_depth = c.at("no_depth").get<std::size_t>();
-    const json::Json& s = j.at("settle");
-    a.settle.movable_at_keyframe = s.at("movable_at_keyframe").get<std::int64_t>();
-    a.settle.reset_since_keyframe = s.at("reset_since_keyframe").get<std::int64_t>();
-    a.settle.previous_movable = s.at("previous_movable").get<std::int64_t>();
-    a.settle.stable_frames = s.at("stable_frames").get<int>();
-    return a;
-  } catch (const json::Json::exception& e) {
-    throw Error(ErrorCode::kInternal, "journalled frame " + std::to_string(frame) + " of scene " +
-                                          std::to_string(scene_id) + " has an unreadable model_after: " + e.what());
-  }
-}
-
 }  // namespace anchordb::services::scene_stored

@@ -111,7 +111,7 @@ SceneService::FrameStep SceneService::Step(const Model& m, const engine::SceneMo
   }
   if (journal) {
     journal->frame = state.frames;
-    journal->model_after_json = scene_stored::EncodeModelAfter(counts, s.settle.state());
+    journal->model_after = scene_stored::EncodeModelAfter(counts, s.settle.state());
     s.journal = std::move(journal);
   }
   return s;
@@ -170,7 +170,7 @@ void SceneService::Replay(Model& m, const std::vector<storage::JournalFrame>& ro
     newest_depth = std::move(depth);
   }
   if (!newest) return;
-  const scene_stored::ModelAfter after = scene_stored::DecodeModelAfter(newest->model_after_json, m.record.id, newest->frame);
+  const scene_stored::ModelAfter after = scene_stored::DecodeModelAfter(newest->model_after, m.record.id, newest->frame);
   m.last_counts = after.counts;
   m.settle = engine::SettleDetector(after.settle);
   m.last_depth_mm = DepthMillimetres(newest_depth, newest->depth_scale);

@@ -191,7 +191,7 @@ StoredKeyframe SceneService::StoreKeyframe(Model& m, KeyframeKind kind, std::int
   const storage::KeyframeRecord k = KeyframeRecordOf(m.record, m.K, m.next_action_layer, kind, stamp_ns, m.last_depth_mm, background_mm);
   engine::SettleDetector settle = m.settle;
   settle.OnKeyframe(m.last_counts.movable);
-  const std::string after = scene_stored::EncodeModelAfter(m.last_counts, settle.state());
+  const storage::JournalModelAfter after = scene_stored::EncodeModelAfter(m.last_counts, settle.state());
   const std::int64_t id = store_.Write([&](storage::Connection& c) {
     const std::int64_t inserted = storage::InsertKeyframe(c, k);
     EnqueueAnalysis(c, m, inserted);

@@ -1,14 +1,16 @@
 #pragma once
-// Internal to the scene capability: the two text documents a scene model's rows still store -- the merge report of
-// its scenes row and the model-after of each frame-journal row -- encoded and decoded in scene_documents.cc alone,
-// so that no other file of the capability knows their format or includes JSON (issue 30: they are next to become
-// typed storage codecs). Unreadable stored text is kInternal: the database holds what this release cannot read.
+// Internal to the scene capability: what a scene model's rows store beyond their plain columns -- the merge report of
+// its scenes row (a text document, encoded and decoded in scene_documents.cc alone, so that no other file of the
+// capability knows its format or includes JSON; issue 30: next to become typed) and the model-after of each
+// frame-journal row (typed columns since migration 0021, mapped in scene_model_after.cc). What the database holds
+// and this release cannot read is kInternal.
 #include <cstdint>
 #include <string>
 
 #include "engine/scene/scene_model.h"
 #include "engine/scene/settle.h"
 #include "services/scene/scene_types.h"
+#include "storage/frame_journal.h"
 
 namespace anchordb::services::scene_stored {
 
@@ -21,7 +23,8 @@ struct ModelAfter {
   engine::FrameCounts counts;
   engine::SettleState settle;
 };
-std::string EncodeModelAfter(const engine::FrameCounts& counts, const engine::SettleState& settle);
-ModelAfter DecodeModelAfter(const std::string& stored, std::int64_t scene_id, std::int64_t frame);
+storage::JournalModelAfter EncodeModelAfter(const engine::FrameCounts& counts, const engine::SettleState& settle);
+// kInternal naming the scene and frame when a count is negative or the detector state is out of range.
+ModelAfter DecodeModelAfter(const storage::JournalModelAfter& stored, std::int64_t scene_id, std::int64_t frame);
 
 }  // namespace anchordb::services::scene_stored

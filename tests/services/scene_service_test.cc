@@ -276,8 +276,12 @@ TEST(SceneStoredDocumentsTest, ModelAfterRoundTripsAndUnreadableTextIsAnInternal
     }
     return "no error";
   };
-  EXPECT_NE(message_of([] { scene_stored::DecodeModelAfter(R"({"counts": {}})", 7, 9); }).find("frame 9 of scene 7"),
-            std::string::npos);
+  storage::JournalModelAfter negative = scene_stored::EncodeModelAfter(counts, settle);
+  negative.movable_px = -1;
+  EXPECT_NE(message_of([&] { scene_stored::DecodeModelAfter(negative, 7, 9); }).find("frame 9 of scene 7"), std::string::npos);
+  storage::JournalModelAfter below = scene_stored::EncodeModelAfter(counts, settle);
+  below.settle_previous_movable_px = -2;
+  EXPECT_NE(message_of([&] { scene_stored::DecodeModelAfter(below, 7, 9); }).find("frame 9 of scene 7"), std::string::npos);
   EXPECT_NE(message_of([] { scene_stored::DecodeMergeReport("{broken", 7); }).find("scene 7"), std::string::npos);
 }
 

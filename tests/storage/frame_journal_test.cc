@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <tuple>
+
 #include "schema/error.h"
 #include "storage/repositories.h"
 #include "storage/scene_repository.h"
@@ -32,7 +34,7 @@ JournalFrame Frame(std::int64_t scene, std::int64_t frame, bool png) {
   f.depth = std::string("depth\0of frame ", 15) + std::to_string(frame);  // bytes, NULs included
   f.depth_scale = png ? 1000.0 : 5000.0;
   if (frame % 2 == 0) f.dynamic_png = "mask " + std::to_string(frame);
-  f.model_after_json = R"({"frame":)" + std::to_string(frame) + "}";
+  f.model_after = {100 + frame, 2, 3 * frame, 4, 5, 6, 7, frame == 1 ? -1 : frame, frame % 4};
   return f;
 }
 
@@ -44,7 +46,14 @@ void ExpectSame(const JournalFrame& a, const JournalFrame& b) {
   EXPECT_EQ(a.depth, b.depth);
   EXPECT_EQ(a.depth_scale, b.depth_scale);
   EXPECT_EQ(a.dynamic_png, b.dynamic_png);
-  EXPECT_EQ(a.model_after_json, b.model_after_json);
+  const JournalModelAfter& x = a.model_after;
+  const JournalModelAfter& y = b.model_after;
+  EXPECT_EQ(std::tie(x.supported_px, x.reset_px, x.movable_px, x.dynamic_px, x.no_depth_px,
+                     x.settle_movable_at_keyframe_px, x.settle_reset_since_keyframe_px, x.settle_previous_movable_px,
+                     x.settle_stable_frames),
+            std::tie(y.supported_px, y.reset_px, y.movable_px, y.dynamic_px, y.no_depth_px,
+                     y.settle_movable_at_keyframe_px, y.settle_reset_since_keyframe_px, y.settle_previous_movable_px,
+                     y.settle_stable_frames));
 }
 
 class FrameJournalTest : public ::testing::TestWithParam<Engine> {
@@ -83,9 +92,14 @@ TEST_P(FrameJournalTest, AppendReadBackAcrossReopenTrimAndDelete) {
     EXPECT_EQ(e.code(), ErrorCode::kConflict) << e.what();
   }
   // The model_after of a row is replaced in place; a missing row says so.
-  EXPECT_TRUE(store.Write([&](Connection& c) { return UpdateJournalModelAfter(c, scene, 5, R"({"after":"keyframe"})"); }));
-  EXPECT_FALSE(store.Write([&](Connection& c) { return UpdateJournalModelAfter(c, scene, 9, "{}"); }));
-  EXPECT_EQ(read(scene, 5).front().model_after_json, R"({"after":"keyframe"})");
+  JournalModelAfter after_keyframe = Frame(scene, 5, true).model_after;
+  after_keyframe.settle_movable_at_keyframe_px = 4321;
+  after_keyframe.settle_stable_frames = 0;
+  EXPECT_TRUE(store.Write([&](Connection& c) { return UpdateJournalModelAfter(c, scene, 5, after_keyframe); }));
+  EXPECT_FALSE(store.Write([&](Connection& c) { return UpdateJournalModelAfter(c, scene, 9, after_keyframe); }));
+  EXPECT_EQ(read(scene, 5).front().model_after.settle_movable_at_keyframe_px, 4321);
+  EXPECT_EQ(read(scene, 5).front().model_after.settle_stable_frames, 0);
+  EXPECT_EQ(read(scene, 5).front().model_after.supported_px, 105);
 
   // A checkpoint of 4 frames keeps the row of its last frame and those after it; the other scene is untouched.
   EXPECT_EQ(store.Write([&](Connection& c) { return TrimJournal(c, scene, 4); }), 3);

@@ -2,7 +2,7 @@
 // documents) reads back through the typed columns with the same numbers, a document that lacked a field takes the
 // default the server applied, and a model written after the migration round-trips its typed record. Migration 0018:
 // the pose covariance of schema 0017 (a JSON array) reads as the same 36 numbers, and a new one is stored in the
-// blob envelope, not as text.
+// blob envelope, not as text. Migration 0021: a journalled frame's model_after of schema 20 reads as typed columns.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "storage/connection.h"
+#include "storage/frame_journal.h"
 #include "storage/migrations.h"
 #include "storage/repositories.h"
 #include "storage/scene_repository.h"
@@ -148,6 +149,42 @@ TEST_P(SceneDocumentsMigrationTest, ThePoseCovarianceOfSchema17ReadsAndANewOneIs
   EXPECT_EQ(columns.Int(1), 1);  // the envelope
   fresh.pose_covariance.reset();
   EXPECT_FALSE(FindScene(*c, "home", InsertScene(*c, fresh), false)->pose_covariance.has_value());
+}
+
+TEST_P(SceneDocumentsMigrationTest, TheModelAfterOfSchema20BecomesTypedColumns) {
+  const std::unique_ptr<Connection> c = OpenConnection(db_.location(), ConnectionOptions{});
+  ApplyMigrations(*c, UpTo(GetParam(), 20));
+  InsertMap(*c, {"home", "Home", 1});
+  SceneRecord scene;
+  scene.map_id = "home";
+  scene.started_ns = 1;
+  const std::int64_t id = InsertScene(*c, scene);
+  const auto legacy = [&](std::int64_t frame, const std::string& model_after) {
+    Statement(*c, "INSERT INTO scene_frame_journal (scene_id, frame, stamp_ns, depth_codec, depth, depth_scale, "
+                  "model_after) VALUES (?, ?, 5, 'png', ?, 1000, ?)")
+        .Bind(1, id).Bind(2, frame).BindBlob(3, "png bytes").Bind(4, model_after).Run();
+  };
+  legacy(1, R"({"counts":{"supported":1200,"reset":30,"movable":45,"dynamic":6,"no_depth":700},)"
+            R"("settle":{"movable_at_keyframe":40,"reset_since_keyframe":12,"previous_movable":-1,"stable_frames":3}})");
+  legacy(2, R"({"counts":{"supported":5}})");  // what a document lacks takes the detector's initial state
+  ApplyMigrations(*c, EmbeddedMigrations(GetParam()));
+
+  const std::vector<JournalFrame> rows = ReadJournal(*c, id, 0);
+  ASSERT_EQ(rows.size(), 2u);
+  const JournalModelAfter& a = rows[0].model_after;
+  EXPECT_EQ(a.supported_px, 1200);
+  EXPECT_EQ(a.reset_px, 30);
+  EXPECT_EQ(a.movable_px, 45);
+  EXPECT_EQ(a.dynamic_px, 6);
+  EXPECT_EQ(a.no_depth_px, 700);
+  EXPECT_EQ(a.settle_movable_at_keyframe_px, 40);
+  EXPECT_EQ(a.settle_reset_since_keyframe_px, 12);
+  EXPECT_EQ(a.settle_previous_movable_px, -1);
+  EXPECT_EQ(a.settle_stable_frames, 3);
+  const JournalModelAfter& b = rows[1].model_after;
+  EXPECT_EQ(b.supported_px, 5);
+  EXPECT_EQ(b.movable_px, 0);
+  EXPECT_EQ(b.settle_previous_movable_px, -1);
 }
 
 }  // namespace
