@@ -6,12 +6,12 @@
 
 #include "schema/error.h"
 #include "api/event_json.h"
-#include "services/scene/scene_documents_internal.h"
+#include "api/scene_documents_json.h"
 
 namespace anchordb::api::scene_json {
 
 using namespace anchordb::services;
-namespace docs = services::scene_documents;
+namespace docs = api::scene_documents;
 
 namespace {
 

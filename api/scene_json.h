@@ -1,7 +1,7 @@
 #pragma once
 // JSON <-> typed for the scene routes: the body that opens a scene model, and every response of
-// api/scene_routes.cc. The stored documents a response shows (camera, pose, params, merge report) are written by
-// services/scene/scene_documents_internal.h, the one definition of their format.
+// api/scene_routes.cc. The camera, pose, params and merge report a response shows are written by
+// api/scene_documents_json.h, the one definition of their format.
 #include <vector>
 
 #include "schema/json_io.h"

@@ -183,12 +183,15 @@ void DeleteKeyframes(Connection& c, ForgetReport& r, std::int64_t cutoff, const 
   }
 }
 
-// 4. Forgotten superseded models without keyframes: the row goes too (its estimate: the text columns plus about 280
-// bytes for the typed camera, pose and parameter columns and the row's own overhead).
+// 4. Forgotten superseded models without keyframes: the row goes too (its estimate: the covariance, about 400 bytes
+// for the typed camera, pose, parameter and merge report columns and the row's own overhead, and the merge report's
+// child rows at 24 bytes a candidate or superseded model and 330 a merged model).
 void DeleteEmptyModels(Connection& c, ForgetReport& r, const ForgetProgress& progress) {
   Statement select(c,
-                   "SELECT m.id, length(m.merge_report) + COALESCE(length(m.pose_covariance), 0) + "
-                   "COALESCE(length(m.pose_covariance_f64), 0) + 280 "
+                   "SELECT m.id, COALESCE(length(m.pose_covariance), 0) + COALESCE(length(m.pose_covariance_f64), 0) + "
+                   "400 + 24 * ((SELECT count(*) FROM scene_merge_candidates c WHERE c.scene_id = m.id) + "
+                   "(SELECT count(*) FROM scene_merge_superseded s WHERE s.scene_id = m.id)) + "
+                   "330 * (SELECT count(*) FROM scene_merge_models u WHERE u.scene_id = m.id) "
                    "FROM scene_models m WHERE m.map_id = ? AND m.status = 'superseded' AND m.forgotten_ns IS NOT NULL "
                    "AND NOT EXISTS (SELECT 1 FROM keyframes k WHERE k.scene_id = m.id) ORDER BY m.id");
   select.Bind(1, r.map_id);

@@ -5,15 +5,25 @@
 
 #include "storage/blob_codec.h"
 #include "storage/dialect.h"
+#include "storage/scene_merge_columns.h"
 #include "schema/error.h"
 
 namespace anchordb::storage {
 namespace {
 
-constexpr const char* kSceneColumns =
-    "id, map_id, status, superseded_by, width_px, height_px, fx_px, fy_px, cx_px, cy_px, x_m, y_m, z_m, qx, qy, qz, qw, "
-    "beta, dynamic_mode, depth_scale, merge_report, started_ns, ended_ns, last_frame_ns, frames, state_version, "
-    "forgotten_ns, pose_covariance, pose_covariance_f64";
+// The row's own columns, then the merge report's (scene_merge_columns.h) from kMergeReportAt; the state blobs follow
+// when they are loaded.
+const std::string kSceneColumns =
+    std::string("id, map_id, status, superseded_by, width_px, height_px, fx_px, fy_px, cx_px, cy_px, x_m, y_m, z_m, qx, "
+                "qy, qz, qw, beta, dynamic_mode, depth_scale, started_ns, ended_ns, last_frame_ns, frames, "
+                "state_version, forgotten_ns, pose_covariance, pose_covariance_f64, ") + merge_report::kColumns;
+constexpr int kMergeReportAt = 28;
+constexpr int kStateAt = kMergeReportAt + merge_report::kColumnCount;
+
+struct SceneRow {
+  SceneRecord scene;
+  std::int64_t merge_list_rows = 0;  // still to load
+};
 
 using Covariance = std::array<double, 36>;
 
@@ -62,8 +72,9 @@ std::optional<Covariance> ReadLegacyCovariance(std::string_view text) {
   return at == text.size() ? std::optional<Covariance>(out) : std::nullopt;
 }
 
-SceneRecord ReadScene(Statement& s, bool with_state) {
-  SceneRecord r;
+SceneRow ReadScene(Statement& s, bool with_state) {
+  SceneRow row;
+  SceneRecord& r = row.scene;
   r.id = s.Int(0);
   r.map_id = s.Text(1);
   r.status = s.Text(2);
@@ -74,51 +85,65 @@ SceneRecord ReadScene(Statement& s, bool with_state) {
   r.beta = s.Double(17);
   r.dynamic_mode = s.Text(18);
   r.depth_scale = s.Double(19);
-  r.merge_report_json = s.Text(20);
-  r.started_ns = s.Int(21);
-  r.ended_ns = OptionalInt(s, 22);
-  r.last_frame_ns = OptionalInt(s, 23);
-  r.frames = s.Int(24);
-  r.state_version = s.Int(25);
-  r.forgotten_ns = OptionalInt(s, 26);
-  if (!s.IsNull(28)) r.pose_covariance = DecodeCovariance(s.Blob(28));
-  else if (!s.IsNull(27)) r.pose_covariance = ReadLegacyCovariance(s.Text(27));
+  r.started_ns = s.Int(20);
+  r.ended_ns = OptionalInt(s, 21);
+  r.last_frame_ns = OptionalInt(s, 22);
+  r.frames = s.Int(23);
+  r.state_version = s.Int(24);
+  r.forgotten_ns = OptionalInt(s, 25);
+  if (!s.IsNull(27)) r.pose_covariance = DecodeCovariance(s.Blob(27));
+  else if (!s.IsNull(26)) r.pose_covariance = ReadLegacyCovariance(s.Text(26));
+  row.merge_list_rows = merge_report::Read(s, kMergeReportAt, r.merge_report);
   if (with_state) {
-    r.background = s.Blob(29);
-    r.weight = s.Blob(30);
-    r.labels = s.Blob(31);
+    r.background = s.Blob(kStateAt);
+    r.weight = s.Blob(kStateAt + 1);
+    r.labels = s.Blob(kStateAt + 2);
   }
-  return r;
+  return row;
+}
+
+SceneRecord Complete(Connection& c, SceneRow row) {
+  if (row.merge_list_rows > 0) merge_report::ReadLists(c, row.scene.id, row.scene.merge_report);
+  return std::move(row.scene);
 }
 
 }  // namespace
 
 std::int64_t InsertScene(Connection& c, const SceneRecord& r) {
+  std::string placeholders = "?";
+  for (int i = 1; i < 20 + merge_report::kColumnCount; ++i) placeholders += ", ?";
   Statement s(c, "INSERT INTO scene_models (map_id, status, width_px, height_px, fx_px, fy_px, cx_px, cy_px, x_m, y_m, "
-                 "z_m, qx, qy, qz, qw, beta, dynamic_mode, depth_scale, merge_report, started_ns, pose_covariance_f64) "
-                 "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING id");
+                 "z_m, qx, qy, qz, qw, beta, dynamic_mode, depth_scale, started_ns, pose_covariance_f64, " +
+                     std::string(merge_report::kColumns) + ") VALUES (" + placeholders + ") RETURNING id");
   const Eigen::Vector3d& t = r.pose.position_m;
   const Eigen::Quaterniond& q = r.pose.orientation;
   s.Bind(1, r.map_id).Bind(2, r.status).Bind(3, std::int64_t{r.camera.width}).Bind(4, std::int64_t{r.camera.height})
       .Bind(5, r.camera.fx).Bind(6, r.camera.fy).Bind(7, r.camera.cx).Bind(8, r.camera.cy).Bind(9, t.x()).Bind(10, t.y())
       .Bind(11, t.z()).Bind(12, q.x()).Bind(13, q.y()).Bind(14, q.z()).Bind(15, q.w()).Bind(16, r.beta)
-      .Bind(17, r.dynamic_mode).Bind(18, r.depth_scale).Bind(19, r.merge_report_json).Bind(20, r.started_ns);
-  if (r.pose_covariance) s.BindBlob(21, EncodeCovariance(*r.pose_covariance));
-  else s.BindNull(21);
-  return s.RunReturningId();
+      .Bind(17, r.dynamic_mode).Bind(18, r.depth_scale).Bind(19, r.started_ns);
+  if (r.pose_covariance) s.BindBlob(20, EncodeCovariance(*r.pose_covariance));
+  else s.BindNull(20);
+  merge_report::Bind(s, 21, r.merge_report);
+  const std::int64_t id = s.RunReturningId();
+  merge_report::ReplaceLists(c, id, r.merge_report);
+  return id;
 }
 
 std::optional<SceneRecord> FindScene(Connection& c, const std::string& map_id, std::int64_t id, bool with_state) {
-  const std::string sql = std::string("SELECT ") + kSceneColumns + (with_state ? ", background, weight, labels" : "") +
+  const std::string sql = "SELECT " + kSceneColumns + (with_state ? ", background, weight, labels" : "") +
                           " FROM scene_models WHERE map_id = ? AND id = ?";
-  Statement s(c, sql);
-  s.Bind(1, map_id).Bind(2, id);
-  if (!s.Step()) return std::nullopt;
-  return ReadScene(s, with_state);
+  std::optional<SceneRow> row;
+  {
+    Statement s(c, sql);
+    s.Bind(1, map_id).Bind(2, id);
+    if (!s.Step()) return std::nullopt;
+    row = ReadScene(s, with_state);
+  }
+  return Complete(c, std::move(*row));
 }
 
 std::vector<SceneRecord> ListScenes(Connection& c, const std::string& map_id, const SceneFilter& f) {
-  std::string sql = std::string("SELECT ") + kSceneColumns + " FROM scene_models m WHERE map_id = ?1";
+  std::string sql = "SELECT " + kSceneColumns + " FROM scene_models m WHERE map_id = ?1";
   if (f.status) sql += " AND status = ?2";
   if (f.near_m) {
     sql += " AND " + PointInBox(c.engine(), {"scene_models_rtree", "id", "m.id", "m.x_m", "m.y_m", "m.z_m"},
@@ -131,20 +156,33 @@ std::vector<SceneRecord> ListScenes(Connection& c, const std::string& map_id, co
   if (f.status) s.Bind(2, *f.status);
   if (f.near_m) s.Bind(3, f.near_m->x()).Bind(4, f.near_m->y()).Bind(5, f.near_m->z()).Bind(6, f.radius_m);
   s.Bind(7, static_cast<std::int64_t>(f.limit));
+  std::vector<SceneRow> rows;
+  while (s.Step()) rows.push_back(ReadScene(s, false));
   std::vector<SceneRecord> out;
-  while (s.Step()) out.push_back(ReadScene(s, false));
+  out.reserve(rows.size());
+  for (SceneRow& row : rows) out.push_back(Complete(c, std::move(row)));
   return out;
 }
 
 void UpdateSceneState(Connection& c, const SceneRecord& r, std::int64_t expected) {
+  std::string assignments;
+  for (std::string_view rest = merge_report::kColumns; !rest.empty();) {
+    const std::size_t comma = rest.find(", ");
+    assignments += ", " + std::string(rest.substr(0, comma)) + " = ?";
+    rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 2);
+  }
   Statement s(c, "UPDATE scene_models SET background = ?, weight = ?, labels = ?, frames = ?, last_frame_ns = ?, "
-                 "state_version = ?, merge_report = ? WHERE id = ? AND state_version = ?");
+                 "state_version = ?" + assignments + " WHERE id = ? AND state_version = ?");
   s.BindBlob(1, r.background).BindBlob(2, r.weight).BindBlob(3, r.labels).Bind(4, r.frames);
   BindOptional(s, 5, r.last_frame_ns);
-  s.Bind(6, r.state_version).Bind(7, r.merge_report_json).Bind(8, r.id).Bind(9, expected).Run();
+  s.Bind(6, r.state_version);
+  merge_report::Bind(s, 7, r.merge_report);
+  s.Bind(7 + merge_report::kColumnCount, r.id).Bind(8 + merge_report::kColumnCount, expected).Run();
   if (c.Changes() != 1) {
     throw Error(ErrorCode::kConflict, "scene model " + std::to_string(r.id) + " was changed concurrently");
   }
+  // The report's lists (a checkpoint every SceneLimits::persist_every_frames frames rewrites their few rows).
+  merge_report::ReplaceLists(c, r.id, r.merge_report);
 }
 
 void UpdateSceneStatus(Connection& c, std::int64_t id, const std::string& status, std::optional<std::int64_t> ended_ns,

@@ -9,6 +9,7 @@
 #include "schema/types.h"
 #include "storage/repositories.h"
 #include "storage/connection.h"
+#include "storage/scene_merge_report.h"
 
 namespace anchordb::storage {
 
@@ -24,7 +25,7 @@ struct SceneRecord {
   double beta = 0.03;
   std::string dynamic_mode = "exclude";
   double depth_scale = 1000.0;
-  std::string merge_report_json = "{}";
+  MergeReportRecord merge_report;  // storage/scene_merge_report.h
   std::int64_t started_ns = 0;
   std::optional<std::int64_t> ended_ns;
   std::optional<std::int64_t> last_frame_ns;

@@ -25,7 +25,7 @@ std::optional<KeyframeNotice> LoadKeyframeNotice(storage::Connection& c, const s
   n.action_layer = k->action_layer;
   n.K = scene->camera;
   n.beta = scene->beta;
-  const MergeReport merge = scene_stored::DecodeMergeReport(scene->merge_report_json, scene->id);
+  const MergeReport merge = scene_stored::DecodeMergeReport(scene->merge_report, scene->id);
   const auto& corrected = merge.X_MapCamera_corrected;
   n.X_MapCamera = engine::ToIsometry(corrected ? UnitPose(*corrected) : StoredPose(*scene));
   for (const MergedModel& used : merge.models_used) n.merged_scenes.push_back(used.scene_id);

@@ -154,7 +154,7 @@ FrameResult SceneService::AddMergingFrame(Model& m, const std::vector<std::uint1
       if (engine::Supersedes(pose, snapshot.poses[k], merge_)) report.superseded.push_back(snapshot.priors[k].id);
     }
     storage::SceneRecord merged = m.record;
-    merged.merge_report_json = scene_stored::EncodeMergeReport(report);
+    merged.merge_report = scene_stored::EncodeMergeReport(report);
     engine::FrameCounts counts;  // the merged model's labels
     for (std::size_t i = 0; i < state.movable.size(); ++i) {
       counts.movable += state.movable[i];

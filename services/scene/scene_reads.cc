@@ -26,7 +26,7 @@ SceneInfo InfoFromRecord(const storage::SceneRecord& r) {
   info.X_MapCamera = r.pose;
   info.pose_covariance_map = scene_pose::FromStored(r.pose_covariance);
   info.params = StoredParams(r);
-  info.merge = scene_stored::DecodeMergeReport(r.merge_report_json, r.id);
+  info.merge = scene_stored::DecodeMergeReport(r.merge_report, r.id);
   info.started_ns = r.started_ns;
   info.ended_ns = r.ended_ns;
   info.last_frame_ns = r.last_frame_ns;

@@ -156,7 +156,7 @@ std::shared_ptr<SceneService::Model> SceneService::Load(const std::string& map, 
   if (!record) throw Error(ErrorCode::kNotFound, "scene " + std::to_string(id) + " does not exist in map '" + map + "'", "scene");
   model->K = record->camera;
   model->params = StoredParams(*record);
-  model->merge = scene_stored::DecodeMergeReport(record->merge_report_json, record->id);  // the stored text is kept
+  model->merge = scene_stored::DecodeMergeReport(record->merge_report, record->id);
   model->state = engine::NewSceneModel(model->K.width, model->K.height);
   const std::size_t n = static_cast<std::size_t>(model->K.width) * model->K.height;
   if (record->state_version > 0) {

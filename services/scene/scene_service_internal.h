@@ -90,7 +90,7 @@ inline void WriteCheckpoint(storage::Connection& c, const storage::SceneRecord& 
 
 struct SceneService::Model {
   std::mutex mutex;
-  storage::SceneRecord record;  // state blobs not kept here; merge_report_json follows `merge`
+  storage::SceneRecord record;  // state blobs not kept here; merge_report follows `merge`
   PinholeIntrinsics K;
   SceneParams params;
   MergeReport merge;
@@ -106,7 +106,7 @@ struct SceneService::Model {
 
   void SetMergeReport(MergeReport report) {
     merge = std::move(report);
-    record.merge_report_json = scene_stored::EncodeMergeReport(merge);
+    record.merge_report = scene_stored::EncodeMergeReport(merge);
   }
   // `written` (a StateRecord of this model) was committed.
   void Persisted(const storage::SceneRecord& written) {

@@ -1,9 +1,9 @@
 #pragma once
-// Internal to the scene capability: what a scene model's rows store beyond their plain columns -- the merge report of
-// its scenes row (a text document, encoded and decoded in scene_documents.cc alone, so that no other file of the
-// capability knows its format or includes JSON; issue 30: next to become typed) and the model-after of each
-// frame-journal row (typed columns since migration 0021, mapped in scene_model_after.cc). What the database holds
-// and this release cannot read is kInternal.
+// Internal to the scene capability: the store's typed records of what a scene model's rows hold beyond their plain
+// columns, mapped to the service's and the engine's types -- the merge report of its scene_models row (typed columns
+// and child tables since migration 0022, scene_merge_record.cc) and the model-after of each frame-journal row (typed
+// columns since migration 0021, scene_model_after.cc). What the database holds and this release cannot read is
+// kInternal.
 #include <cstdint>
 #include <string>
 
@@ -11,12 +11,13 @@
 #include "engine/scene/settle.h"
 #include "services/scene/scene_types.h"
 #include "storage/frame_journal.h"
+#include "storage/scene_merge_report.h"
 
 namespace anchordb::services::scene_stored {
 
-std::string EncodeMergeReport(const MergeReport& report);
-// Keys that a report of an older release lacks take their defaults.
-MergeReport DecodeMergeReport(const std::string& stored, std::int64_t scene_id);
+storage::MergeReportRecord EncodeMergeReport(const MergeReport& report);
+// kInternal naming the scene for an unknown strategy or a negative count.
+MergeReport DecodeMergeReport(const storage::MergeReportRecord& stored, std::int64_t scene_id);
 
 // What a replay of the frame journal cannot recompute from the checkpoint and the frames after it.
 struct ModelAfter {

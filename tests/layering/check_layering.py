@@ -24,8 +24,6 @@ JSON_DEBT = {
     "services/features/feature_service.cc",
     "services/furniture/furniture_graph_json.cc",
     "services/jobs/job_documents.cc",
-    "services/scene/scene_documents.cc",
-    "services/scene/scene_documents_internal.h",
     "services/segmentation/segmentation_request.cc",
     "services/shapes/shape_service.cc",
 }

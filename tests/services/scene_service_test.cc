@@ -11,7 +11,6 @@
 #include "engine/scene/depth_image.h"
 #include "schema/error.h"
 #include "services/grid/grid_service.h"
-#include "services/scene/scene_documents_internal.h"
 #include "services/scene/scene_stored_documents.h"
 #include "storage/connection.h"
 #include "tests/support/temp_dir.h"
@@ -222,25 +221,55 @@ TEST_F(SceneServiceTest, LayersAndListsAreTyped) {
   EXPECT_TRUE(scenes_->List("home", near).empty());
 }
 
-// The stored documents read back as written, numbers and nulls included (the responses show them as stored).
-TEST(SceneDocumentsTest, MergeReportRoundTrips) {
-  const json::Json stored = json::Json::parse(R"({
-    "requested": true, "strategy": "naive", "performed": true, "pending": false,
-    "candidates": [{"scene": 3, "overlap": 0.8125}],
-    "models_used": [{"scene": 3,
-      "icp": {"converged": true, "applied": false, "fitness_m2": null, "fitness_before_m2": 0.0123,
-              "correction": {"translation_m": [0.01, -0.02, 0.003], "rotation_rad": 0.0174},
-              "source_points": 1200, "target_points": 3400},
-      "pixels": {"rasterised": 10, "supported": 9, "replaced_farther": 8, "rear_projected": 7, "filled_unknown": 6,
-                 "rejected_fov": 5, "rejected_occlusion": 4, "rejected_neighbourhood": 3}}],
-    "timing_ms": {"icp": 103.7, "rasterise": 5.0, "merge": 14.3},
-    "superseded": [3],
-    "pose_corrected": {"position": [0.1, 0.2, 1.3], "orientation": [0.0, 0.0, 0.0499791692706783, 0.9987502603949663]},
-    "pose_corrected_by_scene": 3})");
-  EXPECT_EQ(scene_documents::MergeReportDocument(scene_documents::MergeReportFromDocument(stored)).dump(), stored.dump());
-  const json::Json opened = json::Json::parse(R"({"requested": false, "strategy": "algorithm2", "performed": false,
-                                                  "candidates": []})");
-  EXPECT_EQ(scene_documents::MergeReportDocument(scene_documents::MergeReportFromDocument(opened)).dump(), opened.dump());
+// The merge report maps to the store's record and back unchanged, NaN included (the responses show it as stored).
+TEST(SceneStoredDocumentsTest, MergeReportRoundTripsThroughItsStoredRecord) {
+  MergeReport r;
+  r.requested = true;
+  r.strategy = engine::MergeStrategy::kNaive;
+  r.candidates = {{3, 0.8125}, {5, 0.25}};
+  r.pending = false;
+  r.performed = true;
+  MergedModel m;
+  m.scene_id = 3;
+  m.icp_converged = true;
+  m.fitness_m2 = std::nan("");
+  m.fitness_before_m2 = 0.0123;
+  m.correction_translation_m = {0.01, -0.02, 0.003};
+  m.correction_rotation_rad = 0.0174;
+  m.source_points = 1200;
+  m.icp_verdict = "applied";
+  m.relative_information = {1, 0.9, 0.8, 0.7, 0.6, 0.5};
+  m.unobservable_directions = 1;
+  m.remaining_sigma = {0.01, 0.02, 0.03, 0.001, 0.002, 0.003};
+  m.rasterised = 10;
+  m.rejected_uncertain = 2;
+  m.tolerance_px = 1.5;
+  m.fallback = "";
+  r.models_used = {m};
+  r.timing = {103.7, 5.0, 14.3};
+  r.superseded = {3};
+  Pose3 corrected;
+  corrected.position_m = {0.1, 0.2, 1.3};
+  corrected.orientation = Eigen::Quaterniond(0.9987502603949663, 0.0, 0.0, 0.0499791692706783);
+  r.X_MapCamera_corrected = corrected;
+  r.corrected_by_scene = 3;
+  const MergeReport back = scene_stored::DecodeMergeReport(scene_stored::EncodeMergeReport(r), 7);
+  EXPECT_EQ(back.strategy, engine::MergeStrategy::kNaive);
+  ASSERT_EQ(back.candidates.size(), 2u);
+  EXPECT_EQ(back.candidates[1].id, 5);
+  EXPECT_EQ(back.pending, std::optional<bool>(false));
+  ASSERT_EQ(back.models_used.size(), 1u);
+  EXPECT_TRUE(std::isnan(back.models_used[0].fitness_m2));
+  EXPECT_EQ(back.models_used[0].correction_translation_m, m.correction_translation_m);
+  EXPECT_EQ(back.models_used[0].relative_information, m.relative_information);
+  EXPECT_EQ(back.models_used[0].remaining_sigma, m.remaining_sigma);
+  EXPECT_EQ(back.models_used[0].rejected_uncertain, 2u);
+  EXPECT_EQ(back.models_used[0].icp_verdict, "applied");
+  EXPECT_EQ(back.timing.icp_ms, 103.7);
+  EXPECT_EQ(back.superseded, r.superseded);
+  ASSERT_TRUE(back.X_MapCamera_corrected.has_value());
+  EXPECT_EQ(back.X_MapCamera_corrected->orientation.coeffs(), corrected.orientation.coeffs());
+  EXPECT_EQ(back.corrected_by_scene, 3);
 }
 
 // The journal's model-after reads back as written; stored text this release cannot read is kInternal naming the row
@@ -282,14 +311,20 @@ TEST(SceneStoredDocumentsTest, ModelAfterRoundTripsAndUnreadableTextIsAnInternal
   storage::JournalModelAfter below = scene_stored::EncodeModelAfter(counts, settle);
   below.settle_previous_movable_px = -2;
   EXPECT_NE(message_of([&] { scene_stored::DecodeModelAfter(below, 7, 9); }).find("frame 9 of scene 7"), std::string::npos);
-  EXPECT_NE(message_of([] { scene_stored::DecodeMergeReport("{broken", 7); }).find("scene 7"), std::string::npos);
+  storage::MergeReportRecord unknown_strategy;
+  unknown_strategy.strategy = "sideways";
+  EXPECT_NE(message_of([&] { scene_stored::DecodeMergeReport(unknown_strategy, 7); }).find("scene 7"), std::string::npos);
 }
 
 TEST_F(SceneServiceTest, AnUnreadableStoredMergeReportIsAnInternalErrorNotACrash) {
   const std::int64_t id = scenes_->Open("home", At({0, 0, 1})).id;
   scenes_->Close("home", id);
   store_->Write([&](storage::Connection& c) {
-    storage::Statement(c, "UPDATE scene_models SET merge_report = '{broken' WHERE id = ?").Bind(1, id).Run();
+    // A merged model with a negative point count: no row this release writes.
+    storage::Statement(c, "INSERT INTO scene_merge_models VALUES (?, 0, 3, 0, 0, NULL, NULL, 0, 0, 0, NULL, -5, 0, '', "
+                          "0, 0, 0, 0, 0, 0, 0, NULL, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, '')")
+        .Bind(1, id).Run();
+    storage::Statement(c, "UPDATE scene_models SET merge_list_rows = 1 WHERE id = ?").Bind(1, id).Run();
     return 0;
   });
   SceneService fresh(*store_, SceneLimits{}, MergeSettings{}, clock_);
