@@ -45,16 +45,16 @@ MergedModelRecord ReadModel(const Statement& s, int f) {
   m.source_points = s.Int(f + 9);
   m.target_points = s.Int(f + 10);
   m.icp_verdict = s.Text(f + 11);
-  for (int k = 0; k < 6; ++k) m.relative_information[static_cast<std::size_t>(k)] = s.Double(f + 12 + k);
+  for (int k = 0; k < 6; ++k) m.relative_information[static_cast<std::size_t>(k)] = RealOrNaN(s, f + 12 + k);
   m.unobservable_directions = s.Int(f + 18);
   m.mahalanobis2 = RealOrNaN(s, f + 19);
-  for (int k = 0; k < 6; ++k) m.remaining_sigma[static_cast<std::size_t>(k)] = s.Double(f + 20 + k);
+  for (int k = 0; k < 6; ++k) m.remaining_sigma[static_cast<std::size_t>(k)] = RealOrNaN(s, f + 20 + k);
   std::int64_t* const pixels[] = {&m.rasterised_px, &m.supported_px, &m.replaced_farther_px, &m.rear_projected_px,
                                   &m.filled_unknown_px, &m.rejected_fov_px, &m.rejected_occlusion_px,
                                   &m.rejected_neighbourhood_px, &m.rejected_uncertain_px};
   for (int k = 0; k < 9; ++k) *pixels[k] = s.Int(f + 26 + k);
-  m.tolerance_px = s.Double(f + 35);
-  m.tolerance_m = s.Double(f + 36);
+  m.tolerance_px = RealOrNaN(s, f + 35);
+  m.tolerance_m = RealOrNaN(s, f + 36);
   m.fallback = s.Text(f + 37);
   return m;
 }
@@ -66,15 +66,17 @@ void BindModel(Statement& s, int f, const MergedModelRecord& m) {
   for (int k = 0; k < 3; ++k) BindReal(s, f + 5 + k, m.correction_translation_m[static_cast<std::size_t>(k)]);
   BindReal(s, f + 8, m.correction_rotation_rad);
   s.Bind(f + 9, m.source_points).Bind(f + 10, m.target_points).Bind(f + 11, m.icp_verdict);
-  for (int k = 0; k < 6; ++k) s.Bind(f + 12 + k, m.relative_information[static_cast<std::size_t>(k)]);
+  for (int k = 0; k < 6; ++k) BindReal(s, f + 12 + k, m.relative_information[static_cast<std::size_t>(k)]);
   s.Bind(f + 18, m.unobservable_directions);
   BindReal(s, f + 19, m.mahalanobis2);
-  for (int k = 0; k < 6; ++k) s.Bind(f + 20 + k, m.remaining_sigma[static_cast<std::size_t>(k)]);
+  for (int k = 0; k < 6; ++k) BindReal(s, f + 20 + k, m.remaining_sigma[static_cast<std::size_t>(k)]);
   const std::int64_t pixels[] = {m.rasterised_px, m.supported_px, m.replaced_farther_px, m.rear_projected_px,
                                  m.filled_unknown_px, m.rejected_fov_px, m.rejected_occlusion_px,
                                  m.rejected_neighbourhood_px, m.rejected_uncertain_px};
   for (int k = 0; k < 9; ++k) s.Bind(f + 26 + k, pixels[k]);
-  s.Bind(f + 35, m.tolerance_px).Bind(f + 36, m.tolerance_m).Bind(f + 37, m.fallback);
+  BindReal(s, f + 35, m.tolerance_px);
+  BindReal(s, f + 36, m.tolerance_m);
+  s.Bind(f + 37, m.fallback);
 }
 
 }  // namespace

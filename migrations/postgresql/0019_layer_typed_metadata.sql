@@ -83,13 +83,19 @@ WHERE kind = 'occupancy';
 
 INSERT INTO layer_fuse_operands (map_id, layer, position, operand, threshold)
   SELECT l.map_id, l.name, o.n - 1, o.v ->> 'layer', (o.v ->> 'threshold')::double precision
-  FROM layers l, jsonb_array_elements(l.meta::jsonb -> 'operands') WITH ORDINALITY AS o(v, n) WHERE l.kind = 'fused';
+  FROM layers l, jsonb_array_elements(
+      CASE WHEN jsonb_typeof(l.meta::jsonb -> 'operands') = 'array' THEN l.meta::jsonb -> 'operands' END)
+   WITH ORDINALITY AS o(v, n) WHERE l.kind = 'fused';
 INSERT INTO layer_label_names (map_id, layer, label_id, name)
-  SELECT l.map_id, l.name, n.key::integer, n.value FROM layers l, jsonb_each_text(l.meta::jsonb -> 'labels') n
+  SELECT l.map_id, l.name, n.key::integer, n.value FROM layers l, jsonb_each_text(
+      CASE WHEN jsonb_typeof(l.meta::jsonb -> 'labels') = 'object' THEN l.meta::jsonb -> 'labels' END) n
   WHERE l.kind = 'label';
 INSERT INTO layer_ignored_yaml_keys (map_id, layer, position, yaml_key)
   SELECT l.map_id, l.name, k.n - 1, k.v
-  FROM layers l, jsonb_array_elements_text(l.meta::jsonb -> 'ignored_yaml_keys') WITH ORDINALITY AS k(v, n)
+  FROM layers l, jsonb_array_elements_text(
+      CASE WHEN jsonb_typeof(l.meta::jsonb -> 'ignored_yaml_keys') = 'array'
+        THEN l.meta::jsonb -> 'ignored_yaml_keys' END)
+   WITH ORDINALITY AS k(v, n)
   WHERE l.kind = 'occupancy';
 UPDATE layers SET meta_list_rows =
   (SELECT count(*) FROM layer_fuse_operands o WHERE o.map_id = layers.map_id AND o.layer = layers.name) +

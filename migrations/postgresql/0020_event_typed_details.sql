@@ -53,7 +53,8 @@ UPDATE events SET
 WHERE jsonb_typeof(details::jsonb -> 'visibility') = 'object';
 UPDATE events SET background_scene = (details::jsonb ->> 'background_scene')::bigint;
 INSERT INTO event_label_weights (event_id, label, weight)
-  SELECT e.id, l.key, (l.value #>> '{}')::double precision FROM events e, jsonb_each(e.details::jsonb -> 'labels') l
+  SELECT e.id, l.key, (l.value #>> '{}')::double precision FROM events e, jsonb_each(
+      CASE WHEN jsonb_typeof(e.details::jsonb -> 'labels') = 'object' THEN e.details::jsonb -> 'labels' END) l
   WHERE jsonb_typeof(e.details::jsonb -> 'labels') = 'object' AND jsonb_typeof(l.value) = 'number';
 UPDATE events SET label_weight_rows = (SELECT count(*) FROM event_label_weights w WHERE w.event_id = events.id)
 WHERE jsonb_typeof(details::jsonb -> 'labels') = 'object';

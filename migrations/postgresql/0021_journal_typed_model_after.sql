@@ -8,7 +8,7 @@ ALTER TABLE scene_frame_journal
   ADD COLUMN no_depth_px BIGINT NOT NULL DEFAULT 0,
   ADD COLUMN settle_movable_at_keyframe_px BIGINT NOT NULL DEFAULT 0,
   ADD COLUMN settle_reset_since_keyframe_px BIGINT NOT NULL DEFAULT 0,
-  ADD COLUMN settle_previous_movable_px BIGINT NOT NULL DEFAULT 0,
+  ADD COLUMN settle_previous_movable_px BIGINT NOT NULL DEFAULT -1,
   ADD COLUMN settle_stable_frames BIGINT NOT NULL DEFAULT 0;
 UPDATE scene_frame_journal SET
   supported_px = COALESCE((model_after::jsonb #>> '{counts,supported}')::bigint, 0),

@@ -87,7 +87,7 @@ UPDATE layers SET
   yaml_occupied_thresh = json_extract(meta, '$.map_server.occupied_thresh'),
   yaml_free_thresh = json_extract(meta, '$.map_server.free_thresh'),
   yaml_mode = json_extract(meta, '$.map_server.mode'),
-  yaml_mode_given = json_extract(meta, '$.map_server.mode_given')
+  yaml_mode_given = COALESCE(json_extract(meta, '$.map_server.mode_given'), 0)
 WHERE kind = 'occupancy';
 
 INSERT INTO layer_fuse_operands (map_id, layer, position, operand, threshold)

@@ -11,7 +11,7 @@ ALTER TABLE scene_frame_journal ADD COLUMN no_depth_px INTEGER NOT NULL DEFAULT 
 -- the previous frame, frames in a row without change
 ALTER TABLE scene_frame_journal ADD COLUMN settle_movable_at_keyframe_px INTEGER NOT NULL DEFAULT 0;
 ALTER TABLE scene_frame_journal ADD COLUMN settle_reset_since_keyframe_px INTEGER NOT NULL DEFAULT 0;
-ALTER TABLE scene_frame_journal ADD COLUMN settle_previous_movable_px INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE scene_frame_journal ADD COLUMN settle_previous_movable_px INTEGER NOT NULL DEFAULT -1;
 ALTER TABLE scene_frame_journal ADD COLUMN settle_stable_frames INTEGER NOT NULL DEFAULT 0;
 UPDATE scene_frame_journal SET
   supported_px = COALESCE(json_extract(model_after, '$.counts.supported'), 0),
