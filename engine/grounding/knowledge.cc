@@ -332,6 +332,17 @@ Knowledge LoadKnowledge(std::string_view json_text) {
   return k;
 }
 
+std::string CompleteKnowledgeJson(std::string_view json_text) {
+  if (json_text.empty()) {
+    return Json{{"categories", Json::parse(DefaultCategoriesJson())}, {"frame_prior", Json::parse(DefaultFramePriorJson())}}.dump();
+  }
+  (void)LoadKnowledge(json_text);  // throws naming the bad entry
+  Json doc = Json::parse(json_text);
+  if (!doc.contains("categories")) doc["categories"] = Json::parse(DefaultCategoriesJson());
+  if (!doc.contains("frame_prior")) doc["frame_prior"] = Json::parse(DefaultFramePriorJson());
+  return doc.dump();
+}
+
 const Knowledge& DefaultKnowledge() {
   static const Knowledge kDefault{LoadCategoryTable(DefaultCategoriesJson()), LoadFramePrior(DefaultFramePriorJson())};
   return kDefault;

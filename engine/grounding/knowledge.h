@@ -122,6 +122,9 @@ FramePrior LoadFramePrior(std::string_view json_text);
 // A document {"categories": <categories format>, "frame_prior": <frame prior format>}; either part may be
 // omitted and then is the built-in default.
 Knowledge LoadKnowledge(std::string_view json_text);
+// Such a document checked (LoadKnowledge's errors) and completed with the built-in part it omits ("" gives both
+// built-in tables): the knowledge a new graph stores, so that a later change of the defaults cannot change it.
+std::string CompleteKnowledgeJson(std::string_view json_text);
 
 // The embedded default files' text, and the knowledge they define.
 std::string_view DefaultCategoriesJson();

@@ -81,7 +81,7 @@ g::Distribution4 RelationRow(const g::GraphState& s, std::size_t directed) {
 }  // namespace
 
 FurnitureService::FurnitureService(storage::Store& store, FurnitureSettings settings, const Clock& clock)
-    : store_(store), settings_(std::move(settings)), clock_(clock), knowledge_json_(KnowledgeDocument(settings_.knowledge_json)) {}
+    : store_(store), settings_(std::move(settings)), clock_(clock), knowledge_json_(g::CompleteKnowledgeJson(settings_.knowledge_json)) {}
 
 GraphView FurnitureService::Create(const std::string& map, const CreateGraphRequest& request) {
   auto graph = std::make_shared<Graph>();
@@ -101,10 +101,8 @@ GraphView FurnitureService::Create(const std::string& map, const CreateGraphRequ
   graph->set = g::InitialHypotheses(graph->graph);
   storage::FurnitureGraphRecord& r = graph->record;
   r.map_id = map;
-  r.viewpoint_json = ViewpointDocument(graph->viewpoint);
-  r.params_json = ParamsDocument(graph->params);
-  r.knowledge_json = knowledge_json_;
-  r.graph_json = GraphDocument(graph->graph);
+  StoreGraph(r, graph->viewpoint, graph->params, graph->graph);
+  r.knowledge_text = knowledge_json_;
   r.created_ns = r.updated_ns = clock_.NowNs();
   r.hypotheses = EncodeHypotheses(graph->graph, graph->set);
   r.id = store_.Write([&](storage::Connection& c) {
@@ -138,10 +136,10 @@ std::shared_ptr<FurnitureService::Graph> FurnitureService::Acquire(const std::st
   });
   if (!record) throw not_found();
   auto graph = std::make_shared<Graph>();
-  graph->knowledge = g::LoadKnowledge(record->knowledge_json);
-  graph->params = ParamsFromDocument(record->params_json);
-  graph->viewpoint = ViewpointFromDocument(record->viewpoint_json);
-  graph->graph = GraphFromDocument(record->graph_json);
+  graph->knowledge = g::LoadKnowledge(record->knowledge_text);
+  graph->params = ParamsOf(record->params);
+  graph->viewpoint = ViewpointOf(*record);
+  graph->graph = GraphOf(*record);
   g::SetLineOfSight(graph->graph, graph->viewpoint, graph->params.relation_sharpness);
   graph->set = DecodeHypotheses(graph->graph, record->hypotheses);
   record->hypotheses.clear();
@@ -196,7 +194,7 @@ GraphView FurnitureService::View(const Graph& gr, const std::vector<storage::Gra
     item.seq = static_cast<int>(t + 1);
     item.match = MatchOf(graph, best.matches[t]);
     if (t < descriptions.size()) {
-      item.input = DescriptionFromDocument(descriptions[t].input_json);
+      item.input = InputOf(descriptions[t]);
       item.understood = Understood{descriptions[t].located, descriptions[t].relation, descriptions[t].reference, std::nullopt};
     }
   }
@@ -209,7 +207,7 @@ std::vector<GraphSummary> FurnitureService::List(const std::string& map, std::in
     if (!storage::FindMap(c, map)) throw NoMap(map);
     std::vector<GraphSummary> out;
     for (const auto& r : storage::ListFurnitureGraphs(c, map, before_id, limit)) {
-      out.push_back({r.id, ViewpointFromDocument(r.viewpoint_json), ParamsFromDocument(r.params_json), r.descriptions,
+      out.push_back({r.id, ViewpointOf(r), ParamsOf(r.params), r.descriptions,
                      r.created_ns, r.updated_ns});
     }
     return out;
@@ -237,8 +235,15 @@ GroundingResult FurnitureService::Describe(const std::string& map, std::int64_t 
   const std::string blob = EncodeHypotheses(graph->graph, next);
   const std::int64_t now = clock_.NowNs();
   store_.Write([&](storage::Connection& c) {
-    storage::InsertGraphDescription(c, {id, next.step, DescriptionDocument(request), resolved.understood.located,
-                                        resolved.understood.relation, resolved.understood.reference, now});
+    storage::GraphDescriptionRecord described;
+    described.graph_id = id;
+    described.seq = next.step;
+    StoreInput(described, request);
+    described.located = resolved.understood.located;
+    described.relation = resolved.understood.relation;
+    described.reference = resolved.understood.reference;
+    described.created_ns = now;
+    storage::InsertGraphDescription(c, described);
     storage::UpdateFurnitureGraphState(c, id, next.step, blob, now, graph->record.state_version);
   });
   graph->record.state_version += 1;

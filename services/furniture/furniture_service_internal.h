@@ -1,6 +1,6 @@
 #pragma once
 // Internal to services/furniture/*.cc: the in-memory state of a furniture graph, the checks of typed requests
-// (furniture_requests.cc) and the stored form of a graph (furniture_graph_json.cc: JSON documents in the database).
+// (furniture_requests.cc) and the mapping of a graph to its stored records (furniture_graph_records.cc).
 #include <mutex>
 #include <string>
 #include <vector>
@@ -40,19 +40,17 @@ int VertexOrNotFound(const g::FurnitureGraph& graph, const std::string& id, cons
 // A match of the engine in the terms a client is told (furniture_service.cc).
 MatchView MatchOf(const g::FurnitureGraph& graph, const g::Match& m);
 
-// The stored form (furniture_graph_json.cc), as the database keeps it.
-std::string ViewpointDocument(const g::Viewpoint& v);
-g::Viewpoint ViewpointFromDocument(const std::string& text);
-std::string ParamsDocument(const FurnitureGraphParams& p);
-FurnitureGraphParams ParamsFromDocument(const std::string& text);
-// The graph as built, stored whole so that a later change of the building code cannot change a live conversation.
-std::string GraphDocument(const g::FurnitureGraph& graph);
-g::FurnitureGraph GraphFromDocument(const std::string& text);
-// The knowledge document new graphs are created with: `text` checked and completed with the built-in tables.
-std::string KnowledgeDocument(const std::string& text);
+// The stored form (furniture_graph_records.cc): the graph as built is stored whole, so that a later change of the
+// building code cannot change a live conversation. A record the database holds that does not fit (a vertex's p(f)
+// of another length, an edge to no vertex) is kInternal naming the graph.
+void StoreGraph(storage::FurnitureGraphRecord& record, const g::Viewpoint& viewpoint, const FurnitureGraphParams& params,
+                const g::FurnitureGraph& graph);
+g::Viewpoint ViewpointOf(const storage::FurnitureGraphRecord& record);
+FurnitureGraphParams ParamsOf(const storage::FurnitureGraphParamsRecord& record);
+g::FurnitureGraph GraphOf(const storage::FurnitureGraphRecord& record);
 // A description as given (the input stored with it).
-std::string DescriptionDocument(const DescriptionRequest& request);
-DescriptionRequest DescriptionFromDocument(const std::string& text);
+void StoreInput(storage::GraphDescriptionRecord& record, const DescriptionRequest& request);
+DescriptionRequest InputOf(const storage::GraphDescriptionRecord& record);
 
 }  // namespace furniture_detail
 

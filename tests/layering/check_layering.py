@@ -22,7 +22,6 @@ JSON_DEBT = {
     "services/classification/classifier_service.cc",
     "services/common/stored_labels.cc",
     "services/features/feature_service.cc",
-    "services/furniture/furniture_graph_json.cc",
     "services/jobs/job_documents.cc",
     "services/segmentation/segmentation_request.cc",
     "services/shapes/shape_service.cc",

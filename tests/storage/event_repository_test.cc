@@ -168,7 +168,7 @@ TEST_P(EventRepositoryTest, WhereInputsInOneStatementAgreeWithTheSeparateQueries
     for (int k = 0; k < 2; ++k) {
       FurnitureGraphRecord g;
       g.map_id = "home";
-      g.viewpoint_json = g.params_json = g.knowledge_json = g.graph_json = "{}";
+      g.knowledge_text = "{}";
       InsertFurnitureGraph(c, g);
     }
   });
