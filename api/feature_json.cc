@@ -203,4 +203,10 @@ Json ToJson(const services::ExtractResult& r) {
   return {{"keyframe", r.keyframe}, {"points", r.points}, {"types", types}, {"extract_seconds", r.extract_seconds}};
 }
 
+Json ToJson(const storage::CodebookJobRequest& r) { return {{"type", r.type}, {"words", r.words}, {"seed", r.seed}}; }
+
+Json ToJson(const storage::CodebookJobResult& r) {
+  return {{"type", r.type}, {"words", r.words}, {"dims", r.dims}, {"features", r.features}, {"assigned", r.assigned}};
+}
+
 }  // namespace anchordb::api

@@ -24,4 +24,8 @@ Json ToJson(const services::BowResult& r);
 services::ExtractRequest ParseExtractRequest(const Json& body);
 Json ToJson(const services::ExtractResult& r);
 
+// A codebook job's request {type, words, seed} and result {type, words, dims, features, assigned}.
+Json ToJson(const storage::CodebookJobRequest& request);
+Json ToJson(const storage::CodebookJobResult& result);
+
 }  // namespace anchordb::api

@@ -12,6 +12,9 @@ using namespace params;
 
 void RegisterFeatureRoutes(Router& router, FeatureService& f) {
   using Req = const httplib::Request&;
+  RegisterJobDocumentWriters("codebook",
+      {[](const std::string& d, const std::string& what) { return ToJson(storage::DecodeCodebookRequest(d, what)); },
+       [](const std::string& d, const std::string& what) { return ToJson(storage::DecodeCodebookResult(d, what)); }});
   router.Add("POST", "/v1/maps/{map}/features", Role::kWriter,
       "A client batch of anchored features of one type ({type, stamp?, features: [{descriptor, anchor_m, keyframe?}]}), "
       "de-duplicated against stored ones (close in descriptor space and 3D); ids per item",

@@ -21,6 +21,7 @@ Response Accepted(const JobTicket& ticket) {
 }  // namespace
 
 void RegisterJobRoutes(Router& router, JobService& j) {
+  RegisterBuiltInJobDocumentWriters();
   router.Add("POST", "/v1/maps/{map}:forget", Role::kAdmin,
       "Forgetting as a job ({\"policy\": {superseded_models, keyframe_max_age_s, keep_relevance_at_least, "
       "event_max_age_s, vacuum}, \"dry_run\"}); 202 with the job",

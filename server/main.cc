@@ -236,7 +236,7 @@ int BackupCommand(const std::vector<std::string>& args) {
   if (std::filesystem::exists(out)) throw std::invalid_argument("--out: " + out + " exists already");
   const storage::BackupReport report = storage::Backup(config.server.db, out, config.server.busy_timeout_ms);
   storage::Store store(StoreOptionsOf(config.server));
-  const json::Json document = json::Json::parse(services::BackupReportDocument(report));
+  const json::Json document = api::ToJson(report);
   RecordCliAction(store, "backup.create", "", document);
   std::cout << document.dump(1) << "\n";
   return 0;
@@ -284,7 +284,7 @@ int Forget(const std::vector<std::string>& args) {
     if (e.code() == ErrorCode::kNotFound) throw std::invalid_argument(e.what());
     throw;
   }
-  const json::Json document = json::Json::parse(services::ForgetReportDocument(report));
+  const json::Json document = api::ToJson(report);
   RecordCliAction(store, "map.forget", map, document);
   std::cout << document.dump(1) << "\n";
   return 0;

@@ -28,20 +28,21 @@ JobStatus JobStatusFromName(std::string_view name) {
 }
 
 std::int64_t InsertJob(Connection& c, const std::string& kind, const std::optional<std::string>& map_id,
-                       const std::string& request_json, std::int64_t now_ns) {
-  Statement s(c, "INSERT INTO jobs (kind, map_id, status, stage, progress, request, created_ns, updated_ns) "
-                 "VALUES (?, ?, 'queued', '', 0, ?, ?, ?) RETURNING id");
+                       const std::string& request_document, std::int64_t now_ns) {
+  Statement s(c, "INSERT INTO jobs (kind, map_id, status, stage, progress, request, request_document, created_ns, "
+                 "updated_ns) VALUES (?, ?, 'queued', '', 0, '', ?, ?, ?) RETURNING id");
   s.Bind(1, kind);
   if (map_id) s.Bind(2, *map_id);
   else s.BindNull(2);
-  s.Bind(3, request_json).Bind(4, now_ns).Bind(5, now_ns);
+  s.BindBlob(3, request_document).Bind(4, now_ns).Bind(5, now_ns);
   return s.RunReturningId();
 }
 
 namespace {
 
 constexpr const char* kJobColumns =
-    "SELECT id, kind, map_id, status, stage, progress, request, result, error, created_ns, updated_ns FROM jobs";
+    "SELECT id, kind, map_id, status, stage, progress, request, result, error, created_ns, updated_ns, "
+    "request_document, result_document FROM jobs";
 
 JobRecord ReadJob(Statement& s) {
   JobRecord r;
@@ -51,8 +52,11 @@ JobRecord ReadJob(Statement& s) {
   r.status = JobStatusFromName(s.Text(3));
   r.stage = s.Text(4);
   r.progress = s.Double(5);
-  r.request_json = s.Text(6);
-  if (!s.IsNull(7)) r.result_json = s.Text(7);
+  // Migration 0024: a row has its document encoded, or the JSON text an earlier version wrote.
+  if (!s.IsNull(11)) r.request.encoded = s.Blob(11);
+  else r.request.legacy_json = s.Text(6);
+  if (!s.IsNull(12)) r.result = StoredDocument{s.Blob(12), {}};
+  else if (!s.IsNull(7)) r.result = StoredDocument{{}, s.Text(7)};
   if (!s.IsNull(8)) r.error = s.Text(8);
   r.created_ns = s.Int(9);
   r.updated_ns = s.Int(10);
@@ -88,11 +92,11 @@ std::optional<std::int64_t> NextQueuedJob(Connection& c, std::int64_t after_id) 
 }
 
 void SetJobStatus(Connection& c, std::int64_t id, JobStatus status, const std::string& stage, double progress,
-                  const std::string* result_json, const std::string* error, std::int64_t now_ns) {
-  Statement s(c, "UPDATE jobs SET status = ?, stage = ?, progress = ?, result = coalesce(?, result), error = ?, "
-                 "updated_ns = ? WHERE id = ?");
+                  const std::string* result_document, const std::string* error, std::int64_t now_ns) {
+  Statement s(c, "UPDATE jobs SET status = ?, stage = ?, progress = ?, result_document = coalesce(?, result_document), "
+                 "error = ?, updated_ns = ? WHERE id = ?");
   s.Bind(1, std::string_view(JobStatusName(status))).Bind(2, stage).Bind(3, progress);
-  if (result_json) s.Bind(4, *result_json);
+  if (result_document) s.BindBlob(4, *result_document);
   else s.BindNull(4);
   if (error) s.Bind(5, *error);
   else s.BindNull(5);
@@ -105,7 +109,7 @@ int MarkUnfinishedJobsFailed(Connection& c, const std::string& message, std::int
                             "stage || ')' ELSE '' END || ?3, updated_ns = ?2 WHERE status IN ('queued', 'running')";
   int changed = 0;
   for (const auto& [kind, note] : notes_after_result) {
-    Statement s(c, std::string(kSet) + " AND kind = ?4 AND result IS NOT NULL");
+    Statement s(c, std::string(kSet) + " AND kind = ?4 AND (result IS NOT NULL OR result_document IS NOT NULL)");
     s.Bind(1, message).Bind(2, now_ns).Bind(3, note).Bind(4, kind).Run();
     changed += static_cast<int>(c.Changes());
   }

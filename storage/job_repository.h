@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "storage/connection.h"
+#include "storage/document_codec.h"
 #include "storage/job_status.h"
 
 namespace anchordb::storage {
@@ -18,8 +19,8 @@ struct JobRecord {
   JobStatus status = JobStatus::kQueued;
   std::string stage;
   double progress = 0.0;
-  std::string request_json;
-  std::optional<std::string> result_json;
+  StoredDocument request;                // the kind's request (storage/document_codec.h)
+  std::optional<StoredDocument> result;  // none until a result is recorded
   std::optional<std::string> error;
   std::int64_t created_ns = 0;
   std::int64_t updated_ns = 0;
@@ -27,15 +28,15 @@ struct JobRecord {
 
 // map_id: the map the job works on, or none (a backup of the whole file).
 std::int64_t InsertJob(Connection& c, const std::string& kind, const std::optional<std::string>& map_id,
-                       const std::string& request_json, std::int64_t now_ns);
+                       const std::string& request_document, std::int64_t now_ns);
 std::optional<JobRecord> FindJob(Connection& c, std::int64_t id);
 // Newest first: jobs of `map_id` (every job when none) with id < before_id (no bound when 0), at most `limit`.
 std::vector<JobRecord> ListJobs(Connection& c, const std::optional<std::string>& map_id, std::int64_t before_id, int limit);
 // The oldest queued job.
 std::optional<std::int64_t> NextQueuedJob(Connection& c, std::int64_t after_id = 0);
-// result: kept as stored when null; error: replaced (null clears it).
+// result_document (encoded): kept as stored when null; error: replaced (null clears it).
 void SetJobStatus(Connection& c, std::int64_t id, JobStatus status, const std::string& stage, double progress,
-                  const std::string* result_json, const std::string* error, std::int64_t now_ns);
+                  const std::string* result_document, const std::string* error, std::int64_t now_ns);
 // Jobs left queued or running (by a stop or a crash) become failed with `message` and their stage; a job that had
 // recorded a result (its work was committed before the stop) also gets the note of its kind from
 // `notes_after_result` (by kind name). Returns how many.

@@ -59,7 +59,7 @@ Json OptionsJson(const TrainClassifierRequest& r) {
 // The job's request document: the options, the staging number of the samples (kept in memory until the job runs)
 // and what the samples are (how many, per class, per feature type the descriptor length) -- not the samples, which
 // would fill the jobs table and every job document served.
-Json JobDocument(const TrainClassifierRequest& r, const engine::TrainingSet& data, std::int64_t staging) {
+Json TrainingJobDocument(const TrainClassifierRequest& r, const engine::TrainingSet& data, std::int64_t staging) {
   Json j = OptionsJson(r);
   Json classes = Json::object();
   std::vector<int> counts(data.class_names.size(), 0);
@@ -289,7 +289,7 @@ JobTicket ClassifierService::SubmitTraining(TrainClassifierRequest request) {
     staging_->staged[staging].samples = std::move(request.samples);
   }
   try {
-    JobTicket ticket = jobs_.Submit("classifier_train", std::nullopt, JobDocument(request, data, staging).dump());
+    JobTicket ticket = jobs_.Submit("classifier_train", std::nullopt, TrainingJobDocument(request, data, staging).dump());
     std::lock_guard<std::mutex> lock(staging_->mutex);
     if (auto it = staging_->staged.find(staging); it != staging_->staged.end()) it->second.job = ticket.job;
     return ticket;

@@ -1,18 +1,15 @@
 #include "services/features/feature_service.h"
 
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 #include <limits>
 
 #include "schema/error.h"
 #include "services/common/require.h"
+#include "storage/feature_documents.h"
 #include "storage/scene_repository.h"
 
 namespace anchordb::services {
 namespace {
-
-using Json = nlohmann::json;
 
 void CheckFinite(const Eigen::Vector3d& v, const std::string& field) {
   if (!v.allFinite()) throw Error(ErrorCode::kInvalidArgument, field + " must be finite [m]", field);
@@ -49,18 +46,6 @@ void ValidateShapes(const storage::FeatureFilter& query) {
 
 engine::Codebook AsBook(const storage::CodebookRecord& r) { return {r.words, r.dims, r.centres}; }
 
-struct StoredCodebookRequest {
-  std::string type;
-  int words = 0;
-  std::uint64_t seed = 0;
-};
-
-StoredCodebookRequest ParseStored(const std::string& text) {
-  const Json j = Json::parse(text, nullptr, false);
-  if (!j.is_object()) throw Error(ErrorCode::kInternal, "stored codebook request is not JSON");
-  return {j.value("type", std::string()), j.value("words", 0), j.value("seed", std::uint64_t{0})};
-}
-
 }  // namespace
 
 FeatureService::FeatureService(storage::Store& store, JobService& jobs, FeatureSettings settings, const Clock& clock)
@@ -70,7 +55,8 @@ FeatureService::FeatureService(storage::Store& store, JobService& jobs, FeatureS
   kind.first_stage = "reading";
   kind.needs_map = true;
   kind.run = [&store = store_, &clock = clock_](JobContext& job) -> std::optional<std::string> {
-    const StoredCodebookRequest r = ParseStored(job.request());
+    const storage::CodebookJobRequest r =
+        storage::DecodeCodebookRequest(job.request(), "job " + std::to_string(job.id()) + "'s request");
     const std::string& map = *job.map();
     // Captures the store and the clock, not the service: the job service (declared before it) may still run this
     // while the capabilities are destroyed.
@@ -99,8 +85,8 @@ FeatureService::FeatureService(storage::Store& store, JobService& jobs, FeatureS
       }
       return count;
     });
-    return Json{{"type", r.type}, {"words", book.words}, {"dims", book.dims}, {"features", features.size()},
-                {"assigned", assigned}}.dump();
+    return storage::EncodeCodebookResult(
+        {r.type, book.words, book.dims, static_cast<std::int64_t>(features.size()), assigned});
   };
   jobs_.Register(std::move(kind));
 }
@@ -205,8 +191,7 @@ JobTicket FeatureService::SubmitCodebook(const std::string& map, const CodebookR
     throw Error(ErrorCode::kUnprocessable, "a codebook of " + std::to_string(request.words) + " words needs at least as many " +
                                                request.type + " features (" + std::to_string(stored) + " stored)", "words");
   }
-  return jobs_.Submit("codebook", map,
-                      Json{{"type", request.type}, {"words", request.words}, {"seed", request.seed}}.dump());
+  return jobs_.Submit("codebook", map, storage::EncodeCodebookRequest({request.type, request.words, request.seed}));
 }
 
 CodebookView FeatureService::GetCodebook(const std::string& map, const std::string& type) {

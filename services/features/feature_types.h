@@ -10,6 +10,7 @@
 
 #include "engine/features/extraction.h"
 #include "engine/features/features.h"
+#include "storage/feature_documents.h"
 #include "storage/feature_repository.h"
 
 namespace anchordb::services {

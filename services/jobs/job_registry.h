@@ -22,7 +22,7 @@ class JobContext {
   virtual ~JobContext() = default;
   virtual std::int64_t id() const = 0;
   virtual const std::optional<std::string>& map() const = 0;
-  // The request as stored at submission (the kind's own document).
+  // The request as stored at submission: the kind's own document, encoded (storage/document_codec.h).
   virtual const std::string& request() const = 0;
   // The service's clock [ns since the epoch].
   virtual std::int64_t NowNs() const = 0;
@@ -34,9 +34,9 @@ class JobContext {
   // While set, a cancellation also interrupts the statement running on `c` (Connection::Interrupt); nullptr clears it.
   virtual void SetInterruptible(storage::Connection* c) = 0;
   // Records the job's status inside the runner's own transaction on `c`, so that an outcome commits with the work
-  // it describes (result_json null: the stored result is kept).
+  // it describes (result_document, encoded: null keeps the stored result).
   virtual void Record(storage::Connection& c, JobStatus status, const std::string& stage, double progress,
-                      const std::string* result_json) = 0;
+                      const std::string* result_document) = 0;
 };
 
 // Makes `c` interruptible by a cancellation for the life of this object.
@@ -54,7 +54,7 @@ class InterruptibleScope {
 // A submission as the kind's check sees it.
 struct JobSubmission {
   std::optional<std::string> map;
-  std::string request;   // the document to store
+  std::string request;   // the document to store, encoded (storage/document_codec.h)
   std::int64_t now_ns = 0;
 };
 
@@ -64,7 +64,7 @@ struct JobKind {
   bool needs_map = false;   // submitted for one map (checked to exist) or for the whole file
   // Checks a submission before anything is queued; throws Error naming the field. May be empty.
   std::function<void(const JobSubmission&)> check;
-  // Does the work. Returns the result document to record with status succeeded, or nullopt when the runner recorded
+  // Does the work. Returns the result document (encoded) to record with status succeeded, or nullopt when the runner recorded
   // its final status itself (JobContext::Record). Throws to fail the job.
   std::function<std::optional<std::string>(JobContext&)> run;
   // Appended to the error of a job that fails after it recorded a result (the work committed, a later stage failed).

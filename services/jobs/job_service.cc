@@ -25,7 +25,7 @@ class JobService::Context final : public JobContext {
   Context(JobService& service, storage::JobRecord record) : service_(service), record_(std::move(record)) {}
   std::int64_t id() const override { return record_.id; }
   const std::optional<std::string>& map() const override { return record_.map_id; }
-  const std::string& request() const override { return record_.request_json; }
+  const std::string& request() const override { return record_.request.encoded; }
   std::int64_t NowNs() const override { return service_.clock_.NowNs(); }
   void Progress(std::string_view stage, double fraction) override {
     ThrowIfCancelled();
@@ -45,8 +45,8 @@ class JobService::Context final : public JobContext {
     if (c && Cancelled()) c->Interrupt();
   }
   void Record(storage::Connection& c, JobStatus status, const std::string& stage, double progress,
-              const std::string* result_json) override {
-    service_.SetStatus(c, record_.id, status, stage, progress, result_json, nullptr);
+              const std::string* result_document) override {
+    service_.SetStatus(c, record_.id, status, stage, progress, result_document, nullptr);
   }
 
  private:
@@ -90,11 +90,12 @@ void JobService::Register(JobKind kind) {
 }
 
 void JobService::SetStatus(storage::Connection& c, std::int64_t id, JobStatus status, const std::string& stage,
-                           double progress, const std::string* result_json, const std::string* error) const {
-  storage::SetJobStatus(c, id, status, stage, progress, result_json, error, clock_.NowNs());
+                           double progress, const std::string* result_document, const std::string* error) const {
+  storage::SetJobStatus(c, id, status, stage, progress, result_document, error, clock_.NowNs());
 }
 
-JobTicket JobService::Submit(const std::string& kind, const std::optional<std::string>& map, const std::string& request_json) {
+JobTicket JobService::Submit(const std::string& kind, const std::optional<std::string>& map,
+                             const std::string& request_document) {
   std::shared_ptr<const JobKind> k;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -104,11 +105,12 @@ JobTicket JobService::Submit(const std::string& kind, const std::optional<std::s
   if (k->needs_map != map.has_value()) {
     throw Error(ErrorCode::kInvalidArgument, "a " + kind + " job is " + (k->needs_map ? "" : "not ") + "for one map", "map");
   }
-  if (k->check) k->check({map, request_json, clock_.NowNs()});  // throws on bad input: nothing queued
-  return {Enqueue(kind, map, request_json), kind, map, request_json};
+  if (k->check) k->check({map, request_document, clock_.NowNs()});  // throws on bad input: nothing queued
+  return {Enqueue(kind, map, request_document), kind, map, JobDocument{request_document, {}}};
 }
 
-std::int64_t JobService::Enqueue(const std::string& kind, const std::optional<std::string>& map, const std::string& request_json) {
+std::int64_t JobService::Enqueue(const std::string& kind, const std::optional<std::string>& map,
+                             const std::string& request_document) {
   {
     // The queue slot is taken under the mutex, the job row written without it: the running job takes the mutex
     // (progress) while it holds the database's write lock, so waiting for that lock here under the mutex would
@@ -125,7 +127,7 @@ std::int64_t JobService::Enqueue(const std::string& kind, const std::optional<st
   try {
     id = store_.Write([&](storage::Connection& c) {
       if (map && !storage::FindMap(c, *map)) throw Error(ErrorCode::kNotFound, "map '" + *map + "' does not exist", "map");
-      return storage::InsertJob(c, kind, map, request_json, clock_.NowNs());
+      return storage::InsertJob(c, kind, map, request_document, clock_.NowNs());
     });
   } catch (...) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -162,7 +164,7 @@ std::vector<JobView> JobService::List(const std::optional<std::string>& map, std
 }
 
 JobView JobService::ViewOf(const storage::JobRecord& r) const {
-  JobView v{r.id, r.kind, r.map_id, r.status, r.stage, r.progress, r.request_json, r.result_json,
+  JobView v{r.id, r.kind, r.map_id, r.status, r.stage, r.progress, r.request, r.result,
             r.error, r.created_ns, r.updated_ns};
   if (const auto f = unrecorded_failures_.find(r.id); f != unrecorded_failures_.end() && v.status != JobStatus::kSucceeded) {
     v.status = JobStatus::kFailed;
@@ -275,7 +277,7 @@ void JobService::Fail(std::int64_t id, const JobKind* kind, const std::string& w
     // A runner records its result with the work it describes; a result means that work was committed.
     const bool has_result = store_.Read([&](storage::Connection& c) {
       const auto r = storage::FindJob(c, id);
-      return r && r->result_json.has_value();
+      return r && r->result.has_value();
     });
     if (has_result && kind) message += kind->note_when_failed_after_result;
   } catch (const std::exception&) {

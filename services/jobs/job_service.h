@@ -52,7 +52,7 @@ class JobService {
 
   // Queues a job of a registered kind with its request document. Unknown kind: kInvalidArgument ("kind"); the kind's
   // check throws on bad input; unknown map: kNotFound; a full queue or a stopping server: kOverloaded.
-  JobTicket Submit(const std::string& kind, const std::optional<std::string>& map, const std::string& request_json);
+  JobTicket Submit(const std::string& kind, const std::optional<std::string>& map, const std::string& request_document);
   // A forgetting run over `map` (storage/forgetting.h). Ages negative or over 100 years, a relevance outside
   // [0, 1] or a `now` in the future: kUnprocessable naming "policy.<name>" or "now".
   JobTicket SubmitForget(const std::string& map, const storage::ForgetRequest& request);
@@ -77,7 +77,7 @@ class JobService {
  private:
   class Context;
   // Reserves a queue slot, writes the queued row (map checked when given) and wakes the worker; returns its id.
-  std::int64_t Enqueue(const std::string& kind, const std::optional<std::string>& map, const std::string& request_json);
+  std::int64_t Enqueue(const std::string& kind, const std::optional<std::string>& map, const std::string& request_document);
   // A stored job as served (an unrecorded failure or the live progress applied). Needs mutex_.
   JobView ViewOf(const storage::JobRecord& r) const;
   void Worker();
@@ -86,7 +86,7 @@ class JobService {
   // Writes the failures Fail could not write (the database refused writes then); keeps those that fail again.
   void RecordFailures();
   void SetStatus(storage::Connection& c, std::int64_t id, JobStatus status, const std::string& stage, double progress,
-                 const std::string* result_json, const std::string* error) const;
+                 const std::string* result_document, const std::string* error) const;
 
   storage::Store& store_;
   JobSettings settings_;

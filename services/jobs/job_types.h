@@ -1,10 +1,12 @@
 #pragma once
-// Typed requests and results of JobService. A job's request and result are documents the database keeps (JSON text
-// in the jobs table, each kind's own format); they pass through here as that text.
+// Typed requests and results of JobService. A job's request and result are each kind's own typed documents, encoded
+// by its storage codec (storage/document_codec.h); JobService passes them through without knowing the kind, and the
+// HTTP edge writes each kind's JSON (api/job_json.h).
 #include <cstdint>
 #include <optional>
 #include <string>
 
+#include "storage/document_codec.h"
 #include "storage/forget_policy.h"
 #include "storage/job_status.h"
 
@@ -24,12 +26,15 @@ struct BackupRequest {
   std::string label;  // empty, or an id (1-64 of [A-Za-z0-9_.-]) that becomes part of the file name
 };
 
+// A job's request or result as stored: encoded, or the JSON text of a row written before migration 0024.
+using JobDocument = storage::StoredDocument;
+
 // A job just queued.
 struct JobTicket {
   std::int64_t job = 0;
   std::string kind;
   std::optional<std::string> map;  // none for jobs over the whole file (backups)
-  std::string request_json;        // the request as stored
+  JobDocument request;             // the request as stored
 };
 
 struct JobView {
@@ -39,8 +44,8 @@ struct JobView {
   JobStatus status = JobStatus::kQueued;
   std::string stage;
   double progress = 0.0;  // [0, 1]; of the running job, the live value
-  std::string request_json;
-  std::optional<std::string> result_json;
+  JobDocument request;
+  std::optional<JobDocument> result;
   std::optional<std::string> error;
   std::int64_t created_ns = 0, updated_ns = 0;
 };

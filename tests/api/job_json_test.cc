@@ -73,7 +73,8 @@ TEST(forgetting_policy, ParsesDefaultsAndValidatesStrictly) {
 }
 
 TEST(forgetting_job_json, TicketsAndViewsAsTheClientSeesThem) {
-  const Json ticket = ToJson(services::JobTicket{7, "backup", std::nullopt, R"({"file":"/b/x.sqlite"})"});
+  RegisterBuiltInJobDocumentWriters();
+  const Json ticket = ToJson(services::JobTicket{7, "backup", std::nullopt, {services::EncodeBackupRequest({"/b/x.sqlite"}), {}}});
   EXPECT_EQ(ticket, Json::parse(R"({"job": 7, "status": "queued", "kind": "backup", "map": null,
                                     "request": {"file": "/b/x.sqlite"}})"));
   services::JobView v;
@@ -83,15 +84,36 @@ TEST(forgetting_job_json, TicketsAndViewsAsTheClientSeesThem) {
   v.status = services::JobStatus::kRunning;
   v.stage = "keyframes";
   v.progress = 0.5;
-  v.request_json = R"({"dry_run": false})";
+  services::ForgetRequest request;
+  request.policy.event_max_age_s = std::nullopt;
+  v.request = {services::EncodeForgetRequest(request), {}};
   const Json j = ToJson(v);
   EXPECT_EQ(j["status"], "running");
   EXPECT_EQ(j["map"], "home");
   EXPECT_EQ(j["request"]["dry_run"], false);
+  EXPECT_TRUE(j["request"]["policy"]["event_max_age_s"].is_null());
+  EXPECT_EQ(j["request"]["policy"]["keyframe_max_age_s"], 7 * 86400.0);
   EXPECT_TRUE(j["result"].is_null());
   EXPECT_TRUE(j["error"].is_null());
   EXPECT_EQ(ParseBackupRequest(Json::parse(R"({"label": "nightly"})")).label, "nightly");
   EXPECT_THROW(ParseBackupRequest(Json::parse(R"({"lable": "nightly"})")), Error);
+}
+
+TEST(forgetting_job_json, OldRowsShowTheirTextAndUnreadableDocumentsSayWhy) {
+  RegisterBuiltInJobDocumentWriters();
+  services::JobView v;
+  v.id = 5;
+  v.kind = "forget";
+  v.request = {{}, R"({"dry_run": true})"};                 // written before migration 0024
+  v.result = services::JobDocument{"ADBB truncated", {}};    // a corrupt row
+  Json j = ToJson(v);
+  EXPECT_EQ(j["request"], Json::parse(R"({"dry_run": true})"));
+  ASSERT_TRUE(j["result"].contains("unreadable"));
+  EXPECT_NE(j["result"]["unreadable"].get<std::string>().find("job 5's result"), std::string::npos);
+  v.kind = "no-such-kind";
+  v.request = {services::EncodeForgetRequest({}), {}};
+  j = ToJson(v);
+  EXPECT_NE(j["request"]["unreadable"].get<std::string>().find("no-such-kind"), std::string::npos);
 }
 
 }  // namespace

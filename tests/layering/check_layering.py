@@ -21,8 +21,6 @@ HTTP_LITERAL = re.compile(r'"((application|image|text|multipart|audio|video)/[a-
 JSON_DEBT = {
     "services/classification/classifier_service.cc",
     "services/common/stored_labels.cc",
-    "services/features/feature_service.cc",
-    "services/jobs/job_documents.cc",
     "services/segmentation/segmentation_request.cc",
     "services/shapes/shape_service.cc",
 }

@@ -6,13 +6,13 @@
 
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
 
 #include <atomic>
 #include <memory>
 #include <thread>
 
 #include "schema/error.h"
+#include "services/jobs/job_documents.h"
 #include "storage/repositories.h"
 #include "storage/store.h"
 #include "tests/support/temp_dir.h"
@@ -71,14 +71,14 @@ TEST_F(forgetting_job, BadInputQueuesNothingAndAGoodJobSucceeds) {
   EXPECT_EQ(job.map, "home");
   EXPECT_EQ(job.progress, 1.0);
   EXPECT_EQ(job.created_ns, clock_.NowNs());
-  const auto request = nlohmann::json::parse(job.request_json);
-  EXPECT_EQ(request["dry_run"], true);
-  EXPECT_EQ(request["policy"]["keyframe_max_age_s"], 7 * 86400.0);
-  ASSERT_TRUE(job.result_json);
-  const auto result = nlohmann::json::parse(*job.result_json);
-  EXPECT_EQ(result["dry_run"], true);
-  EXPECT_EQ(result["now_ns"], clock_.NowNs());  // aged from the service's clock
-  EXPECT_EQ(result["features_deduplicated"], 0);
+  const storage::ForgetRequest request = DecodeForgetRequest(job.request.encoded, "job");
+  EXPECT_TRUE(request.dry_run);
+  EXPECT_EQ(request.policy.keyframe_max_age_s, 7 * 86400.0);
+  ASSERT_TRUE(job.result);
+  const storage::ForgetReport result = DecodeForgetReport(job.result->encoded, "job");
+  EXPECT_TRUE(result.dry_run);
+  EXPECT_EQ(result.now_ns, clock_.NowNs());  // aged from the service's clock
+  EXPECT_EQ(result.features_deduplicated, 0);
   EXPECT_FALSE(job.error);
   storage::ForgetRequest vacuum;
   vacuum.policy.vacuum = true;
@@ -86,9 +86,10 @@ TEST_F(forgetting_job, BadInputQueuesNothingAndAGoodJobSucceeds) {
   ASSERT_TRUE(jobs.WaitIdle(30));
   const JobView done = jobs.Get(real.job);
   EXPECT_EQ(done.status, JobStatus::kSucceeded) << done.error.value_or("");
-  const auto report = nlohmann::json::parse(done.result_json.value_or("{}"));
-  EXPECT_EQ(report["committed"], true);
-  EXPECT_EQ(report["vacuum"]["mode"], "switched_to_incremental");
+  ASSERT_TRUE(done.result);
+  const storage::ForgetReport report = DecodeForgetReport(done.result->encoded, "job");
+  EXPECT_TRUE(report.committed);
+  EXPECT_EQ(report.vacuum_mode, "switched_to_incremental");
   EXPECT_EQ(CodeOf([&] { jobs.Get(999); }), ErrorCode::kNotFound);
   EXPECT_FALSE(jobs.Cancel(real.job));  // finished already
 }
@@ -98,7 +99,8 @@ TEST_F(forgetting_job, JobsFoundRunningOrQueuedAtStartAreMarkedInterrupted) {
     c.Exec("INSERT INTO jobs (kind, map_id, status, stage, progress, created_ns, updated_ns) VALUES "
            "('forget', 'home', 'running', 'keyframes', 0.5, 1, 1), ('forget', 'home', 'queued', '', 0, 2, 2), "
            "('forget', 'home', 'succeeded', 'done', 1, 3, 3)");
-    // Killed in the vacuum after its deletions committed (the result is recorded with them).
+    // Killed in the vacuum after its deletions committed (the result is recorded with them), by a version before
+    // migration 0024 (its result is JSON text).
     c.Exec("INSERT INTO jobs (kind, map_id, status, stage, progress, result, created_ns, updated_ns) VALUES "
            "('forget', 'home', 'running', 'vacuum', 0.9, '{\"committed\":true}', 4, 4)");
   });
@@ -106,7 +108,9 @@ TEST_F(forgetting_job, JobsFoundRunningOrQueuedAtStartAreMarkedInterrupted) {
   EXPECT_EQ(jobs.interrupted_at_start(), 3);
   EXPECT_EQ(jobs.Get(4).status, JobStatus::kFailed);
   EXPECT_EQ(jobs.Get(4).error, "interrupted by a server stop (stage vacuum) (after the deletions were committed: see result)");
-  EXPECT_EQ(jobs.Get(4).result_json, "{\"committed\":true}");
+  ASSERT_TRUE(jobs.Get(4).result);
+  EXPECT_EQ(jobs.Get(4).result->legacy_json, "{\"committed\":true}");
+  EXPECT_TRUE(jobs.Get(4).result->encoded.empty());
   const JobView running = jobs.Get(1), queued = jobs.Get(2), done = jobs.Get(3);
   EXPECT_EQ(running.status, JobStatus::kFailed);
   EXPECT_EQ(running.error, "interrupted by a server stop (stage keyframes)");
@@ -166,7 +170,8 @@ TEST_F(forgetting_job, RegistryRefusesUnknownKindsAndRunsARegisteredOne) {
   EXPECT_EQ(done.status, JobStatus::kSucceeded);
   EXPECT_EQ(done.stage, "done");
   EXPECT_EQ(done.progress, 1.0);
-  EXPECT_NE(done.result_json.value_or("").find("steps"), std::string::npos);
+  ASSERT_TRUE(done.result);
+  EXPECT_NE(done.result->encoded.find("steps"), std::string::npos);  // the kind's own bytes, stored as they came
 }
 
 TEST_F(forgetting_job, RegisteredKindIsCancelledRunningOrQueued) {
@@ -183,7 +188,7 @@ TEST_F(forgetting_job, RegisteredKindIsCancelledRunningOrQueued) {
   EXPECT_EQ(a.status, JobStatus::kFailed);
   EXPECT_EQ(a.error, "cancelled");
   EXPECT_EQ(a.stage, "counting");
-  EXPECT_FALSE(a.result_json);
+  EXPECT_FALSE(a.result);
   EXPECT_EQ(b.status, JobStatus::kFailed);
   EXPECT_EQ(b.error, "cancelled");
   EXPECT_FALSE(counter.finish);

@@ -7,6 +7,7 @@
 #include "storage/event_repository.h"
 #include "storage/furniture_instance_repository.h"
 #include "storage/instance_classification_repository.h"
+#include "storage/job_documents.h"
 #include "storage/job_repository.h"
 #include "storage/repositories.h"
 #include "storage/shape_repository.h"
@@ -45,28 +46,30 @@ INSTANTIATE_TEST_SUITE_P(Engines, RepositoryRoundTripTest, testing::BothEngines(
 TEST_P(RepositoryRoundTripTest, JobsKeepTheirFieldsStatusesAndOrder) {
   const auto [backup, forget, segment] = store_->Write([](Connection& c) {
     // One statement each, in this order (the arguments of one call are evaluated in an unspecified order).
-    const std::int64_t b = InsertJob(c, "backup", std::nullopt, R"({"label":"nightly"})", 10);
-    const std::int64_t f = InsertJob(c, "forget", "home"s, "{}", 20);
-    return std::make_tuple(b, f, InsertJob(c, "segment", "other"s, "{}", 30));
+    const std::int64_t b = InsertJob(c, "backup", std::nullopt, EncodeBackupRequest({"/b/nightly.sqlite"}), 10);
+    const std::int64_t f = InsertJob(c, "forget", "home"s, EncodeForgetRequest({}), 20);
+    return std::make_tuple(b, f, InsertJob(c, "segment", "other"s, "any bytes\0\xff"s, 30));
   });
   const JobRecord f = *Job(forget);
   EXPECT_EQ(f.kind, "forget");
   EXPECT_EQ(f.map_id, "home");
   EXPECT_EQ(f.status, JobStatus::kQueued);
-  EXPECT_EQ(f.request_json, "{}");
+  EXPECT_EQ(f.request.encoded, EncodeForgetRequest({}));
+  EXPECT_TRUE(f.request.legacy_json.empty());
   EXPECT_EQ(f.progress, 0.0);
   EXPECT_EQ(f.created_ns, 20);
   EXPECT_EQ(f.updated_ns, 20);
-  EXPECT_FALSE(f.result_json.has_value());
+  EXPECT_FALSE(f.result.has_value());
   EXPECT_FALSE(f.error.has_value());
   EXPECT_FALSE(Job(backup)->map_id.has_value());
-  EXPECT_EQ(Job(backup)->request_json, R"({"label":"nightly"})");
+  EXPECT_EQ(DecodeBackupRequest(Job(backup)->request.encoded, "job").file, "/b/nightly.sqlite");
+  EXPECT_EQ(Job(segment)->request.encoded, "any bytes\0\xff"s);  // a kind's document is bytes, kept exactly
   EXPECT_FALSE(Job(segment + 1000).has_value());
   // The oldest queued first, and after a given id.
   EXPECT_EQ(store_->Read([](Connection& c) { return NextQueuedJob(c); }), backup);
   EXPECT_EQ(store_->Read([&, b = backup](Connection& c) { return NextQueuedJob(c, b); }), forget);
   // Status changes: a result stays when none is given; an error is replaced, and cleared by none.
-  const std::string result = R"({"bytes":123})", error = "disk full";
+  const std::string result = EncodeBackupReport({"/b/nightly.sqlite", 123, 1, 0, "ok", 0.5}), error = "disk full";
   store_->Write([&, b = backup, fo = forget](Connection& c) {
     SetJobStatus(c, b, JobStatus::kRunning, "copying", 0.5, nullptr, nullptr, 40);
     SetJobStatus(c, fo, JobStatus::kFailed, "deleting", 0.25, nullptr, &error, 41);
@@ -81,7 +84,9 @@ TEST_P(RepositoryRoundTripTest, JobsKeepTheirFieldsStatusesAndOrder) {
     SetJobStatus(c, b, JobStatus::kSucceeded, "done", 1.0, nullptr, nullptr, 51);
     SetJobStatus(c, fo, JobStatus::kFailed, "deleting", 0.25, nullptr, nullptr, 52);
   });
-  EXPECT_EQ(Job(backup)->result_json, result);
+  ASSERT_TRUE(Job(backup)->result.has_value());
+  EXPECT_EQ(Job(backup)->result->encoded, result);
+  EXPECT_EQ(DecodeBackupReport(Job(backup)->result->encoded, "job").bytes, 123);
   EXPECT_EQ(Job(backup)->status, JobStatus::kSucceeded);
   EXPECT_FALSE(Job(forget)->error.has_value());
   EXPECT_EQ(store_->Read([](Connection& c) { return NextQueuedJob(c); }), segment);
@@ -97,7 +102,7 @@ TEST_P(RepositoryRoundTripTest, JobsKeepTheirFieldsStatusesAndOrder) {
   EXPECT_EQ(ids(std::nullopt, 0, 1), std::vector<std::int64_t>{segment});
   // A stop leaves the queued and running jobs failed; one that had recorded its result gets its kind's note.
   const std::int64_t running = store_->Write([&](Connection& c) {
-    const std::int64_t id = InsertJob(c, "backup", std::nullopt, "{}", 60);
+    const std::int64_t id = InsertJob(c, "backup", std::nullopt, EncodeBackupRequest({"/b/x.sqlite"}), 60);
     SetJobStatus(c, id, JobStatus::kRunning, "writing", 0.9, &result, nullptr, 61);
     return id;
   });
