@@ -7,6 +7,7 @@
 #include "api/job_json.h"
 #include "api/octomap_json.h"
 #include "api/route_params.h"
+#include "api/segmentation_json.h"
 #include "schema/error.h"
 #include "schema/json_io.h"
 
@@ -100,6 +101,9 @@ Json FurnitureInstanceJson(const FurnitureInstanceView& v) {
 }  // namespace
 
 void RegisterSegmentationRoutes(Router& router, FurnitureSegmentationService& s) {
+  RegisterJobDocumentWriters("furniture_segment",
+      {[](const std::string& d, const std::string& what) { return ToJson(storage::DecodeSegmentationRequest(d, what)); },
+       [](const std::string& d, const std::string& what) { return ToJson(storage::DecodeSegmentationResult(d, what)); }});
   router.Add("POST", "/v1/maps/{map}/furniture:segment", Role::kWriter,
       "Segment the furniture (thesis 5.3.1) in the map's keyframes merged in the map frame or its OctoMap's occupied "
       "voxels (JSON {source: keyframes|octomap, keyframes, max_range_m, shape_model, use_stored_shape_model, "

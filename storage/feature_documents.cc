@@ -4,11 +4,11 @@
 
 namespace anchordb::storage {
 namespace {
-constexpr std::uint16_t kVersion = 1;
+constexpr std::uint16_t kCodebookVersion = 1;
 }  // namespace
 
 std::string EncodeCodebookRequest(const CodebookJobRequest& r) {
-  return DocumentWriter(DocumentKind::kCodebookRequest, kVersion)
+  return DocumentWriter(DocumentKind::kCodebookRequest, kCodebookVersion)
       .Text(r.type)
       .Int(r.words)
       .Int(static_cast<std::int64_t>(r.seed))
@@ -16,7 +16,7 @@ std::string EncodeCodebookRequest(const CodebookJobRequest& r) {
 }
 
 CodebookJobRequest DecodeCodebookRequest(std::string_view stored, const std::string& what) {
-  DocumentReader d(stored, DocumentKind::kCodebookRequest, kVersion, what);
+  DocumentReader d(stored, DocumentKind::kCodebookRequest, kCodebookVersion, what);
   CodebookJobRequest r;
   r.type = d.Text();
   r.words = d.SmallInt();
@@ -26,7 +26,7 @@ CodebookJobRequest DecodeCodebookRequest(std::string_view stored, const std::str
 }
 
 std::string EncodeCodebookResult(const CodebookJobResult& r) {
-  return DocumentWriter(DocumentKind::kCodebookResult, kVersion)
+  return DocumentWriter(DocumentKind::kCodebookResult, kCodebookVersion)
       .Text(r.type)
       .Int(r.words)
       .Int(r.dims)
@@ -36,7 +36,7 @@ std::string EncodeCodebookResult(const CodebookJobResult& r) {
 }
 
 CodebookJobResult DecodeCodebookResult(std::string_view stored, const std::string& what) {
-  DocumentReader d(stored, DocumentKind::kCodebookResult, kVersion, what);
+  DocumentReader d(stored, DocumentKind::kCodebookResult, kCodebookVersion, what);
   CodebookJobResult r;
   r.type = d.Text();
   r.words = d.SmallInt();

@@ -1,6 +1,6 @@
 #pragma once
 // SQL for perceived furniture (migration 0014): the perception record beside a furniture instance's row in
-// `instances` (storage/event_repository.h).
+// `instances` (storage/event_repository.h), with the keyframes that saw it (furniture_instance_evidence, 0025).
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -16,13 +16,14 @@ struct FurnitureInstanceRecord {
   std::string classifier;
   double min_z_m = 0.0, height_m = 0.0;
   std::int64_t observations = 1;
-  std::string evidence_json = "[]";
+  std::vector<std::int64_t> evidence_keyframes;  // ascending, each once
   std::optional<std::int64_t> job_id;
   std::string cloud;  // blob f32 {n, 3}; empty when read without it
   std::int64_t created_ns = 0, updated_ns = 0;
 };
 
-void UpsertFurnitureInstance(Connection& c, const FurnitureInstanceRecord& r);  // by instance_id
+// By instance_id; the evidence rows are replaced by the record's.
+void UpsertFurnitureInstance(Connection& c, const FurnitureInstanceRecord& r);
 std::optional<FurnitureInstanceRecord> FindFurnitureInstance(Connection& c, const std::string& map_id,
                                                              std::int64_t instance_id, bool with_cloud);
 std::vector<FurnitureInstanceRecord> ListFurnitureInstances(Connection& c, const std::string& map_id, bool with_cloud);

@@ -70,7 +70,7 @@ FurnitureInstanceView ViewOf(const storage::InstanceRecord& r, const std::option
     v.min_z_m = f->min_z_m;
     v.height_m = f->height_m;
     v.classifier = f->classifier;
-    v.evidence = EvidenceFromDocument(f->evidence_json);
+    v.evidence = f->evidence_keyframes;
     v.observations = f->observations;
   } else {
     v.min_z_m = r.position[2] - 0.5 * r.extent[2];
@@ -304,7 +304,7 @@ SegmentOutcome WriteSegment(storage::Connection& c, const InstanceWrite& w, cons
   if (update) {
     inst = known[static_cast<std::size_t>(best)];
     fr = *storage::FindFurnitureInstance(c, w.map, inst.id, false);
-    for (const std::int64_t id : EvidenceFromDocument(fr.evidence_json)) evidence.insert(id);
+    evidence.insert(fr.evidence_keyframes.begin(), fr.evidence_keyframes.end());
     labels = seg::AverageCategoryShares(Labels(inst.labels_json), static_cast<double>(fr.observations), w.category_ids, classes.p);
     fr.observations += 1;
   } else {
@@ -340,7 +340,7 @@ SegmentOutcome WriteSegment(storage::Connection& c, const InstanceWrite& w, cons
   fr.classifier = w.classifier;
   fr.min_z_m = s.footprint.min_z_m;
   fr.height_m = s.footprint.height_m();
-  fr.evidence_json = EvidenceDocument(std::vector<std::int64_t>(evidence.begin(), evidence.end()));
+  fr.evidence_keyframes.assign(evidence.begin(), evidence.end());
   fr.job_id = w.job_id;
   fr.cloud = EncodeCloudBlob(s.points_m);
   fr.updated_ns = w.now_ns;

@@ -97,9 +97,6 @@ std::string SegmentationRequestDocument(const SegmentationRequest& r, std::optio
 SegmentationRequest SegmentationRequestFromDocument(const std::string& text, std::optional<std::int64_t>* staging = nullptr);
 // The job's result document (the job status shows it; each segment names its cloud's route under `map`).
 std::string SegmentationResultDocument(const SegmentationOutcome& out, const std::string& map);
-// A furniture instance's stored evidence (the keyframes that saw it), and back; unreadable text reads as none.
-std::string EvidenceDocument(const std::vector<std::int64_t>& keyframes);
-std::vector<std::int64_t> EvidenceFromDocument(const std::string& text);
 // The decoded room cloud of the cloud source, of at most `max_points` points (Error field "body" as Submit says).
 std::vector<Eigen::Vector3f> DecodeRoomCloud(const std::string& bytes, bool skip_nonfinite, std::size_t max_points);
 // Throws Error naming the field for a value out of range.

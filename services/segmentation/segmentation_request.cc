@@ -1,16 +1,15 @@
-// The stored documents of the segmentation capability -- the job's request and result documents and a furniture
-// instance's evidence list -- and the request's checks: the one file of services/segmentation that writes JSON.
-#include <nlohmann/json.hpp>
-
+// The stored documents of the segmentation capability -- the job's request and result, typed records of
+// storage/segmentation_documents.h -- and the request's checks.
 #include <cmath>
+#include <map>
+#include <type_traits>
 
 #include "engine/cloud/cloud_io.h"
 #include "schema/error.h"
 #include "services/segmentation/furniture_segmentation_service.h"
+#include "storage/segmentation_documents.h"
 
 namespace anchordb::services {
-
-using Json = nlohmann::json;
 
 namespace {
 
@@ -23,61 +22,67 @@ const char* SourceName(SegmentationSource s) {
   return "keyframes";
 }
 
+SegmentationSource SourceOf(const std::string& name) {
+  if (name == "octomap") return SegmentationSource::kOctomap;
+  if (name == "cloud") return SegmentationSource::kCloud;
+  return SegmentationSource::kKeyframes;
+}
+
+// Every stored segmentation parameter with its name: the one list both directions use.
+template <typename Params, typename Visit>
+void ForEachParam(Params& p, Visit&& visit) {
+  visit("voxel_m", p.voxel_m);
+  visit("plane_distance_m", p.plane_distance_m);
+  visit("plane_iterations", p.plane_iterations);
+  visit("max_planes", p.max_planes);
+  visit("min_plane_points", p.min_plane_points);
+  visit("axis_tolerance_rad", p.axis_tolerance_rad);
+  visit("behind_margin_m", p.behind_margin_m);
+  visit("max_behind_fraction", p.max_behind_fraction);
+  visit("wall_min_width_m", p.wall_min_width_m);
+  visit("wall_min_height_m", p.wall_min_height_m);
+  visit("band_m", p.band_m);
+  visit("outlier_radius_m", p.outlier_radius_m);
+  visit("outlier_min_neighbours", p.outlier_min_neighbours);
+  visit("cluster_tolerance_m", p.cluster_tolerance_m);
+  visit("min_cluster_points", p.min_cluster_points);
+  visit("contact_m", p.contact_m);
+  visit("wall_reach_m", p.wall_reach_m);
+  visit("core_radius_m", p.core_radius_m);
+  visit("core_density", p.core_density);
+}
+
 }  // namespace
 
 std::string SegmentationRequestDocument(const SegmentationRequest& r, std::optional<std::int64_t> staging) {
-  const auto& p = r.params;
-  Json j{{"source", SourceName(r.source)}, {"use_stored_shape_model", r.use_stored_shape_model},
-         {"keyframes", r.keyframes}, {"max_keyframes", r.max_keyframes}, {"max_range_m", r.max_range_m},
-         {"match_iou", r.match_iou},
-         {"params", {{"voxel_m", p.voxel_m}, {"plane_distance_m", p.plane_distance_m}, {"plane_iterations", p.plane_iterations},
-                     {"max_planes", p.max_planes}, {"min_plane_points", p.min_plane_points},
-                     {"axis_tolerance_rad", p.axis_tolerance_rad}, {"behind_margin_m", p.behind_margin_m},
-                     {"max_behind_fraction", p.max_behind_fraction}, {"wall_min_width_m", p.wall_min_width_m},
-                     {"wall_min_height_m", p.wall_min_height_m}, {"band_m", p.band_m}, {"outlier_radius_m", p.outlier_radius_m},
-                     {"outlier_min_neighbours", p.outlier_min_neighbours}, {"cluster_tolerance_m", p.cluster_tolerance_m},
-                     {"min_cluster_points", p.min_cluster_points}, {"contact_m", p.contact_m}, {"wall_reach_m", p.wall_reach_m},
-                     {"core_radius_m", p.core_radius_m}, {"core_density", p.core_density}}}};
-  if (r.shape_model) j["shape_model"] = *r.shape_model;
-  if (staging) j["staging"] = *staging;
-  return j.dump();
+  storage::SegmentationJobRequest d;
+  d.source = SourceName(r.source);
+  d.keyframes = r.keyframes;
+  d.max_keyframes = r.max_keyframes;
+  d.max_range_m = r.max_range_m;
+  d.shape_model = r.shape_model;
+  d.use_stored_shape_model = r.use_stored_shape_model;
+  d.match_iou = r.match_iou;
+  d.staging = staging;
+  ForEachParam(r.params, [&](const char* name, const auto& value) { d.params.emplace_back(name, static_cast<double>(value)); });
+  return storage::EncodeSegmentationRequest(d);
 }
 
-SegmentationRequest SegmentationRequestFromDocument(const std::string& text, std::optional<std::int64_t>* staging) {
-  const Json j = Json::parse(text, nullptr, false);
-  if (!j.is_object()) throw Error(ErrorCode::kInternal, "stored segmentation request is not JSON");
+SegmentationRequest SegmentationRequestFromDocument(const std::string& encoded, std::optional<std::int64_t>* staging) {
+  const storage::SegmentationJobRequest d = storage::DecodeSegmentationRequest(encoded, "a segmentation job's request");
   SegmentationRequest r;
-  const std::string source = j.value("source", std::string("keyframes"));
-  r.source = source == "octomap" ? SegmentationSource::kOctomap
-             : source == "cloud" ? SegmentationSource::kCloud : SegmentationSource::kKeyframes;
-  r.use_stored_shape_model = j.value("use_stored_shape_model", true);
-  if (staging) *staging = j.contains("staging") ? std::optional<std::int64_t>(j["staging"].get<std::int64_t>()) : std::nullopt;
-  r.keyframes = j.value("keyframes", std::vector<std::int64_t>{});
-  r.max_keyframes = j.value("max_keyframes", r.max_keyframes);
-  r.max_range_m = j.value("max_range_m", r.max_range_m);
-  r.match_iou = j.value("match_iou", r.match_iou);
-  if (j.contains("shape_model")) r.shape_model = j["shape_model"].get<std::string>();
-  const Json& p = j.value("params", Json::object());
-  auto& q = r.params;
-  q.voxel_m = p.value("voxel_m", q.voxel_m);
-  q.plane_distance_m = p.value("plane_distance_m", q.plane_distance_m);
-  q.plane_iterations = p.value("plane_iterations", q.plane_iterations);
-  q.max_planes = p.value("max_planes", q.max_planes);
-  q.min_plane_points = p.value("min_plane_points", q.min_plane_points);
-  q.axis_tolerance_rad = p.value("axis_tolerance_rad", q.axis_tolerance_rad);
-  q.behind_margin_m = p.value("behind_margin_m", q.behind_margin_m);
-  q.max_behind_fraction = p.value("max_behind_fraction", q.max_behind_fraction);
-  q.wall_min_width_m = p.value("wall_min_width_m", q.wall_min_width_m);
-  q.wall_min_height_m = p.value("wall_min_height_m", q.wall_min_height_m);
-  q.band_m = p.value("band_m", q.band_m);
-  q.outlier_radius_m = p.value("outlier_radius_m", q.outlier_radius_m);
-  q.outlier_min_neighbours = p.value("outlier_min_neighbours", q.outlier_min_neighbours);
-  q.cluster_tolerance_m = p.value("cluster_tolerance_m", q.cluster_tolerance_m);
-  q.min_cluster_points = p.value("min_cluster_points", q.min_cluster_points);
-  q.contact_m = p.value("contact_m", q.contact_m);
-  q.wall_reach_m = p.value("wall_reach_m", q.wall_reach_m);
-  q.core_radius_m = p.value("core_radius_m", q.core_radius_m);
-  q.core_density = p.value("core_density", q.core_density);
+  r.source = SourceOf(d.source);
+  r.keyframes = d.keyframes;
+  r.max_keyframes = static_cast<int>(d.max_keyframes);
+  r.max_range_m = d.max_range_m;
+  r.shape_model = d.shape_model;
+  r.use_stored_shape_model = d.use_stored_shape_model;
+  r.match_iou = d.match_iou;
+  if (staging) *staging = d.staging;
+  const std::map<std::string, double> stored(d.params.begin(), d.params.end());
+  ForEachParam(r.params, [&](const char* name, auto& value) {
+    if (const auto it = stored.find(name); it != stored.end()) value = static_cast<std::decay_t<decltype(value)>>(it->second);
+  });
   return r;
 }
 
@@ -121,34 +126,26 @@ std::vector<Eigen::Vector3f> DecodeRoomCloud(const std::string& bytes, bool skip
 }
 
 std::string SegmentationResultDocument(const SegmentationOutcome& out, const std::string& map) {
-  Json segments = Json::array();
+  storage::SegmentationJobResult d;
+  d.map_id = map;
+  d.source = out.source;
+  d.shape_model = out.shape_model;
+  d.octomap_truncated = out.octomap_truncated;
+  d.bridges_cut = out.bridges_cut;
+  d.input_points = static_cast<std::int64_t>(out.input_points);
+  d.thinned_points = static_cast<std::int64_t>(out.thinned_points);
+  d.remaining_points = static_cast<std::int64_t>(out.remaining_points);
+  d.planes = out.planes;
+  d.small_clusters = out.small_clusters;
+  d.flying_dropped = out.flying_dropped;
+  d.floor_z_m = out.floor_z_m;
   for (const SegmentOutcome& s : out.segments) {
-    segments.push_back({{"action", s.action}, {"furniture", s.instance.id}, {"label", s.instance.label},
-                        {"label_probability", s.instance.label_probability}, {"classifier", s.instance.classifier},
-                        {"position_m", {s.instance.position_m.x(), s.instance.position_m.y()}},
-                        {"extent_m", {s.instance.extent_m.x(), s.instance.extent_m.y()}}, {"yaw_rad", s.instance.yaw_rad},
-                        {"height_m", s.instance.height_m}, {"points", s.instance.points},
-                        {"cloud", "/v1/maps/" + map + "/furniture/" + std::to_string(s.instance.id) + "/cloud"}});
+    const FurnitureInstanceView& f = s.instance;
+    d.segments.push_back({s.action, f.id, f.label, f.label_probability, f.classifier, f.position_m.x(), f.position_m.y(),
+                          f.extent_m.x(), f.extent_m.y(), f.yaw_rad, f.height_m, f.points});
   }
-  return Json{{"source", out.source}, {"shape_model", out.shape_model ? Json(*out.shape_model) : Json()},
-              {"octomap_truncated", out.octomap_truncated}, {"bridges_cut", out.bridges_cut},
-              {"input_points", out.input_points}, {"thinned_points", out.thinned_points},
-              {"remaining_points", out.remaining_points}, {"planes", out.planes}, {"small_clusters", out.small_clusters},
-              {"flying_dropped", out.flying_dropped}, {"floor_z_m", out.floor_z_m ? Json(*out.floor_z_m) : Json()},
-              {"segments", segments}, {"seconds", out.seconds}}
-      .dump();
-}
-
-std::string EvidenceDocument(const std::vector<std::int64_t>& keyframes) { return Json(keyframes).dump(); }
-
-std::vector<std::int64_t> EvidenceFromDocument(const std::string& text) {
-  const Json j = Json::parse(text, nullptr, false);
-  std::vector<std::int64_t> out;
-  if (!j.is_array()) return out;
-  for (const Json& id : j) {
-    if (id.is_number_integer()) out.push_back(id.get<std::int64_t>());
-  }
-  return out;
+  d.seconds = out.seconds;
+  return storage::EncodeSegmentationResult(d);
 }
 
 }  // namespace anchordb::services

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "engine/segmentation/furniture_segmentation.h"
+#include "storage/segmentation_documents.h"
 
 namespace anchordb::services {
 

@@ -21,7 +21,6 @@ HTTP_LITERAL = re.compile(r'"((application|image|text|multipart|audio|video)/[a-
 JSON_DEBT = {
     "services/classification/classifier_service.cc",
     "services/common/stored_labels.cc",
-    "services/segmentation/segmentation_request.cc",
     "services/shapes/shape_service.cc",
 }
 # Modules whose own headers and sources may not include the named prefixes (api -> services -> engine, storage;

@@ -207,7 +207,7 @@ TEST_P(RepositoryRoundTripTest, PerceivedFurnitureRoundTripsWithItsCloud) {
   r.min_z_m = 0.02;
   r.height_m = 0.74;
   r.observations = 2;
-  r.evidence_json = "[3,4]";
+  r.evidence_keyframes = {3, 4};
   r.cloud = "\0\0\x80?\x01\x02\x03\xff"s;  // binary
   r.created_ns = 10;
   r.updated_ns = 20;
@@ -215,6 +215,7 @@ TEST_P(RepositoryRoundTripTest, PerceivedFurnitureRoundTripsWithItsCloud) {
   other.instance_id = shelf;
   other.job_id = job;
   other.cloud.clear();
+  other.evidence_keyframes = {7};
   store_->Write([&](Connection& c) {
     UpsertFurnitureInstance(c, r);
     UpsertFurnitureInstance(c, other);
@@ -225,7 +226,7 @@ TEST_P(RepositoryRoundTripTest, PerceivedFurnitureRoundTripsWithItsCloud) {
   EXPECT_EQ(got->min_z_m, 0.02);
   EXPECT_EQ(got->height_m, 0.74);
   EXPECT_EQ(got->observations, 2);
-  EXPECT_EQ(got->evidence_json, "[3,4]");
+  EXPECT_EQ(got->evidence_keyframes, (std::vector<std::int64_t>{3, 4}));
   EXPECT_FALSE(got->job_id.has_value());
   EXPECT_EQ(got->cloud, r.cloud);
   EXPECT_EQ(got->created_ns, 10);
@@ -233,15 +234,22 @@ TEST_P(RepositoryRoundTripTest, PerceivedFurnitureRoundTripsWithItsCloud) {
   EXPECT_TRUE(store_->Read([&](Connection& c) { return FindFurnitureInstance(c, "home", table, false); })->cloud.empty());
   EXPECT_EQ(store_->Read([&](Connection& c) { return FindFurnitureInstance(c, "home", shelf, false); })->job_id, job);
   EXPECT_FALSE(store_->Read([&](Connection& c) { return FindFurnitureInstance(c, "other", table, false); }).has_value());
-  EXPECT_EQ(store_->Read([](Connection& c) { return ListFurnitureInstances(c, "home", false); }).size(), 2u);
+  const auto listed = store_->Read([](Connection& c) { return ListFurnitureInstances(c, "home", false); });
+  ASSERT_EQ(listed.size(), 2u);
+  EXPECT_EQ(listed[0].evidence_keyframes, (std::vector<std::int64_t>{3, 4}));  // each piece its own
+  EXPECT_EQ(listed[1].evidence_keyframes, std::vector<std::int64_t>{7});
   EXPECT_TRUE(store_->Read([](Connection& c) { return ListFurnitureInstances(c, "other", false); }).empty());
   r.observations = 3;
-  r.evidence_json = "[3,4,9]";
+  r.evidence_keyframes = {3, 4, 9};
   r.updated_ns = 30;
   store_->Write([&](Connection& c) { UpsertFurnitureInstance(c, r); });
   const auto again = store_->Read([&](Connection& c) { return FindFurnitureInstance(c, "home", table, true); });
   EXPECT_EQ(again->observations, 3);
-  EXPECT_EQ(again->evidence_json, "[3,4,9]");
+  EXPECT_EQ(again->evidence_keyframes, (std::vector<std::int64_t>{3, 4, 9}));
+  r.evidence_keyframes = {9};  // replaced, not joined: the service joins
+  store_->Write([&](Connection& c) { UpsertFurnitureInstance(c, r); });
+  EXPECT_EQ(store_->Read([&](Connection& c) { return FindFurnitureInstance(c, "home", table, false); })->evidence_keyframes,
+            std::vector<std::int64_t>{9});
   EXPECT_EQ(again->updated_ns, 30);
   EXPECT_EQ(store_->Read([](Connection& c) { return ListFurnitureInstances(c, "home", true); }).size(), 2u);
   store_->Write([](Connection& c) { DeleteMap(c, "home"); });
