@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include <pcl/PCLPointCloud2.h>
+#include <pcl/common/io.h>
 #include <pcl/conversions.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
@@ -55,9 +56,15 @@ class TempFile {
   std::string path_;
 };
 
+// x, y and z once each, and every field inside a point: PCL's conversion copies by the header's offsets and sizes
+// without checking them (a header with a garbled SIZE line read past the buffer: found by the fuzz target).
 bool HasXyz(const pcl::PCLPointCloud2& cloud) {
   int found = 0;
   for (const auto& f : cloud.fields) {
+    const std::uint64_t size = pcl::getFieldSize(f.datatype);
+    if (size == 0 || std::uint64_t{f.offset} + size * std::max<std::uint32_t>(f.count, 1) > cloud.point_step) {
+      return false;
+    }
     if ((f.name == "x" || f.name == "y" || f.name == "z") && f.count == 1) ++found;
   }
   return found == 3;
@@ -73,7 +80,7 @@ void CheckSize(const pcl::PCLPointCloud2& header, std::size_t max_points) {
 }
 
 DecodedCloud ToDecoded(const pcl::PCLPointCloud2& cloud, const Eigen::Vector4f& origin) {
-  if (!HasXyz(cloud)) Bad("the cloud has no x, y and z fields");
+  if (!HasXyz(cloud)) Bad("the cloud has no x, y and z fields, or its fields do not fit in a point");
   pcl::PointCloud<pcl::PointXYZ> xyz;
   // PCL 1.13's conversion takes &points[0] of the output even when it is empty (undefined behaviour): skip it then.
   if (std::uint64_t{cloud.width} * cloud.height > 0) pcl::fromPCLPointCloud2(cloud, xyz);
@@ -87,7 +94,43 @@ DecodedCloud ToDecoded(const pcl::PCLPointCloud2& cloud, const Eigen::Vector4f& 
   return out;
 }
 
+// PCL's header reader sizes the point buffer from the header's numbers before anything can check them (a garbled
+// header asked for 36 GB: found by the fuzz target). The numbers are read here first: the points (WIDTH x HEIGHT and
+// POINTS) within `max_points`, and the buffer within what the body can fill (binary: its bytes; ascii: four bytes
+// of values per character; LZF compression: at most about 100 times its bytes).
+void CheckPcdHeaderNumbers(std::string_view bytes, std::size_t max_points) {
+  std::istringstream header{std::string(bytes)};
+  // PCL acts on every line it reads (a POINTS line resizes the buffer), also after a DATA line it does not take for
+  // the last one: the largest value of each key anywhere in the input counts.
+  std::uint64_t width = 0, height = 0, points = 0, size = 0, count = 1, fields = 0;
+  const auto largest = [](std::istringstream& words, std::uint64_t& into) {
+    std::uint64_t n = 0;
+    for (std::uint64_t v; words >> v; ++n) into = std::max(into, std::min<std::uint64_t>(v, 1u << 30));
+    return n;
+  };
+  for (std::string line; std::getline(header, line);) {
+    std::istringstream words(line);
+    std::string key;
+    words >> key;
+    if (key == "WIDTH") largest(words, width);
+    else if (key == "HEIGHT") largest(words, height);
+    else if (key == "POINTS") largest(words, points);
+    else if (key == "SIZE") fields = std::max(fields, largest(words, size));
+    else if (key == "COUNT") largest(words, count);
+  }
+  const std::uint64_t most = std::max(width * std::max<std::uint64_t>(height, 1), points);
+  if (most > max_points) {
+    throw Error(ErrorCode::kPayloadTooLarge,
+                "the cloud holds " + std::to_string(most) + " points, over the limit of " + std::to_string(max_points),
+                "body");
+  }
+  if (most * size * count * fields > 100 * std::uint64_t{bytes.size()}) {
+    Bad("the PCD header claims " + std::to_string(most) + " points, more than the body can hold");
+  }
+}
+
 DecodedCloud DecodePcd(std::string_view bytes, std::size_t max_points) {
+  CheckPcdHeaderNumbers(bytes, max_points);
   pcl::PCDReader reader;
   pcl::PCLPointCloud2 cloud;
   Eigen::Vector4f origin;
@@ -99,15 +142,23 @@ DecodedCloud DecodePcd(std::string_view bytes, std::size_t max_points) {
     Bad("the PCD header does not decode");
   }
   CheckSize(cloud, max_points);
-  if (!HasXyz(cloud)) Bad("the cloud has no x, y and z fields");
+  if (!HasXyz(cloud)) Bad("the cloud has no x, y and z fields, or its fields do not fit in a point");
   const std::uint64_t body_bytes = std::uint64_t{cloud.width} * cloud.height * cloud.point_step;
+  // PCL sizes its buffer by POINTS and reads that many bytes of the body: a POINTS that disagrees with WIDTH x
+  // HEIGHT read past the checked length (a heap overflow found by the fuzz target).
+  if (cloud.data.size() != body_bytes) Bad("the PCD header's POINTS disagrees with its WIDTH x HEIGHT");
   if (data_type == 0) {
     // At least one character and a separator per value.
     if (body_bytes / std::max<std::uint32_t>(cloud.point_step, 1) * cloud.fields.size() * 2 > bytes.size()) {
       Bad("the PCD header claims more points than the body holds");
     }
+    // readHeader reads ahead of the first point line. A body offset past the end (a header whose DATA line is not
+    // one PCL knows reads as ascii) would leave the stream failed, and PCL's ascii reader loops until end-of-file,
+    // which a failed stream never reaches: a request that hung a server thread, found by the fuzz target.
+    if (data_idx > bytes.size()) Bad("the PCD header claims more data than the body holds");
     stream.clear();
-    stream.seekg(data_idx);  // readHeader reads ahead of the first point line
+    stream.seekg(data_idx);
+    if (!stream) Bad("the PCD ascii body cannot be reached");
     if (reader.readBodyASCII(stream, cloud, version) != 0) Bad("the PCD ascii body does not decode");
   } else {
     if (data_idx > bytes.size()) Bad("the PCD header claims more data than the body holds");
@@ -160,7 +211,15 @@ DecodedCloud DecodeCloud(std::string_view bytes, std::size_t max_points) {
   if (bytes.find("DATA ") == std::string_view::npos || bytes.find("FIELDS ") == std::string_view::npos) {
     Bad("the body is neither a PCD (FIELDS / DATA header) nor a PLY file");
   }
-  return DecodePcd(bytes, max_points);
+  try {
+    return DecodePcd(bytes, max_points);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    // PCL's header reader throws the standard library's exceptions on some garbled headers (found by the fuzz
+    // target): the client's bad input, not a server fault.
+    Bad(std::string("the PCD header does not decode (") + e.what() + ")");
+  }
 }
 
 std::string EncodeCloud(const std::vector<Eigen::Vector3f>& points, CloudFormat format) {

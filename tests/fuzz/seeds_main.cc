@@ -18,6 +18,9 @@
 #include "engine/scene/depth_image.h"
 #include "storage/blob_codec.h"
 #include "schema/json_io.h"
+#include "storage/feature_documents.h"
+#include "storage/job_documents.h"
+#include "storage/segmentation_documents.h"
 #include "tests/fuzz/stored_codecs.h"
 
 using namespace anchordb;
@@ -168,6 +171,32 @@ int main(int argc, char** argv) {
   put(12, "cloud-pcd-binary-compressed", engine::EncodeCloud(wall, engine::CloudFormat::kPcdBinaryCompressed));
   put(12, "cloud-ply-ascii", engine::EncodeCloud(wall, engine::CloudFormat::kPlyAscii));
   put(12, "cloud-ply-binary", engine::EncodeCloud(wall, engine::CloudFormat::kPlyBinary));
+  // Typed stored documents (issue 30): the byte after the selector picks the decoder (decoders_fuzz.cc).
+  storage::ForgetRequest forget;
+  forget.now_ns = 1'700'000'000'000'000'000;
+  storage::ForgetReport forgotten;
+  forgotten.map_id = "home";
+  forgotten.keyframes_deleted = {3, 4};
+  forgotten.vacuum_mode = "incremental";
+  storage::SegmentationJobRequest segment;
+  segment.source = "keyframes";
+  segment.keyframes = {1, 2};
+  segment.shape_model = "chairs";
+  segment.params = {{"voxel_m", 0.02}, {"min_cluster_points", 150}};
+  storage::SegmentationJobResult segmented;
+  segmented.map_id = "home";
+  segmented.planes = {"floor"};
+  segmented.floor_z_m = 0.0;
+  segmented.segments = {{"created", 7, "table", 0.8, "geometry", 1.0, 2.0, 1.2, 0.8, 0.1, 0.74, 900}};
+  const auto document = [](char decoder, const std::string& encoded) { return std::string(1, decoder) + encoded; };
+  put(13, "document-forget-request", document(0, storage::EncodeForgetRequest(forget)));
+  put(13, "document-forget-report", document(1, storage::EncodeForgetReport(forgotten)));
+  put(13, "document-backup-request", document(2, storage::EncodeBackupRequest({"/b/home.sqlite"})));
+  put(13, "document-backup-report", document(3, storage::EncodeBackupReport({"/b/home.sqlite", 4096, 1, 0, "ok", 0.5})));
+  put(13, "document-codebook-request", document(4, storage::EncodeCodebookRequest({"fpfh", 64, 1})));
+  put(13, "document-codebook-result", document(5, storage::EncodeCodebookResult({"fpfh", 64, 33, 500, 500})));
+  put(13, "document-segmentation-request", document(6, storage::EncodeSegmentationRequest(segment)));
+  put(13, "document-segmentation-result", document(7, storage::EncodeSegmentationResult(segmented)));
   std::printf("%d seeds in %s\n", n, dir.c_str());
   return 0;
 }
