@@ -118,14 +118,18 @@ void CheckPcdHeaderNumbers(std::string_view bytes, std::size_t max_points) {
     else if (key == "SIZE") fields = std::max(fields, largest(words, size));
     else if (key == "COUNT") largest(words, count);
   }
-  const std::uint64_t most = std::max(width * std::max<std::uint64_t>(height, 1), points);
-  if (most > max_points) {
+  const std::uint64_t grid = width * std::max<std::uint64_t>(height, 1);
+  if (grid > max_points) {
     throw Error(ErrorCode::kPayloadTooLarge,
-                "the cloud holds " + std::to_string(most) + " points, over the limit of " + std::to_string(max_points),
+                "the cloud holds " + std::to_string(grid) + " points, over the limit of " + std::to_string(max_points),
                 "body");
   }
-  if (most * size * count * fields > 100 * std::uint64_t{bytes.size()}) {
-    Bad("the PCD header claims " + std::to_string(most) + " points, more than the body can hold");
+  // A header that lies (a POINTS above WIDTH x HEIGHT) is malformed, not large.
+  if (points > grid) Bad("the PCD header's POINTS (" + std::to_string(points) + ") disagrees with its WIDTH x HEIGHT");
+  // In double: the product of the header's numbers may not fit 64 bits.
+  if (static_cast<double>(grid) * static_cast<double>(size) * static_cast<double>(count) * static_cast<double>(fields) >
+      100.0 * static_cast<double>(bytes.size())) {
+    Bad("the PCD header claims " + std::to_string(grid) + " points, more than the body can hold");
   }
 }
 
