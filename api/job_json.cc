@@ -80,12 +80,12 @@ void RegisterJobDocumentWriters(const std::string& kind, JobDocumentWriters writ
 }
 
 void RegisterBuiltInJobDocumentWriters() {
-  RegisterJobDocumentWriters("forget", {[](const std::string& d, const std::string& what) { return ToJson(services::DecodeForgetRequest(d, what)); },
-                                        [](const std::string& d, const std::string& what) { return ToJson(services::DecodeForgetReport(d, what)); }});
+  RegisterJobDocumentWriters("forget", {[](const std::string& d, const std::string& what) { return ToJson(storage::DecodeForgetRequest(d, what)); },
+                                        [](const std::string& d, const std::string& what) { return ToJson(storage::DecodeForgetReport(d, what)); }});
   RegisterJobDocumentWriters("backup", {[](const std::string& d, const std::string& what) {
-                                          return Json{{"file", services::DecodeBackupRequest(d, what).file}};
+                                          return Json{{"file", storage::DecodeBackupRequest(d, what).file}};
                                         },
-                                        [](const std::string& d, const std::string& what) { return ToJson(services::DecodeBackupReport(d, what)); }});
+                                        [](const std::string& d, const std::string& what) { return ToJson(storage::DecodeBackupReport(d, what)); }});
 }
 
 Json ToJson(const services::ForgetRequest& r) {

@@ -4,7 +4,6 @@
 #include <string>
 
 #include "schema/json_io.h"
-#include "services/jobs/job_documents.h"
 #include "services/jobs/job_types.h"
 
 namespace anchordb::api {

@@ -26,7 +26,6 @@
 #endif
 #include "services/audit/audit_service.h"
 #include "services/jobs/forget_job.h"
-#include "services/jobs/job_documents.h"
 #include "storage/backup.h"
 #include "storage/forgetting.h"
 #include "storage/repositories.h"

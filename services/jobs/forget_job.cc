@@ -1,10 +1,10 @@
-// The "forget" job kind and JobService::SubmitForget (its stored request: services/jobs/job_documents.h).
+// The "forget" job kind and JobService::SubmitForget (its stored request and report: storage/job_documents.h).
 #include "services/jobs/forget_job.h"
 
 #include "engine/forgetting/keep_rules.h"
 #include "schema/error.h"
-#include "services/jobs/job_documents.h"
 #include "storage/forgetting.h"
+#include "storage/job_documents.h"
 
 namespace anchordb::services {
 namespace {
@@ -19,7 +19,7 @@ void CheckAge(const std::optional<double>& age_s, const std::string& field) {
 
 std::optional<std::string> RunForget(JobContext& job, const std::string& db_path, const JobSettings& settings) {
   const storage::ForgetRequest request =
-      DecodeForgetRequest(job.request(), "job " + std::to_string(job.id()) + "'s request");
+      storage::DecodeForgetRequest(job.request(), "job " + std::to_string(job.id()) + "'s request");
   storage::ConnectionOptions options;
   options.busy_timeout_ms = settings.busy_timeout_ms;
   options.synchronous = settings.synchronous;
@@ -30,14 +30,14 @@ std::optional<std::string> RunForget(JobContext& job, const std::string& db_path
   const auto before_commit = [&](storage::Connection& c, const storage::ForgetReport& report) {
     // Recorded with the deletions: a kill after this commit finds the job done (or, with a vacuum still to run,
     // 'running' in stage vacuum with the committed result, which start-up marks failed/interrupted).
-    const std::string result = EncodeForgetReport(report);
+    const std::string result = storage::EncodeForgetReport(report);
     if (request.policy.vacuum) job.Record(c, JobStatus::kRunning, "vacuum", 0.9, &result);
     else job.Record(c, JobStatus::kSucceeded, "done", 1.0, &result);
   };
   const storage::ForgetReport report = storage::Forget(connection, job.map().value_or(""), request.policy,
                                                        ForgetKeepRules(), request.now_ns.value_or(job.NowNs()),
                                                        request.dry_run, progress, before_commit);
-  if (request.dry_run || request.policy.vacuum) return EncodeForgetReport(report);
+  if (request.dry_run || request.policy.vacuum) return storage::EncodeForgetReport(report);
   return std::nullopt;  // recorded with the deletions
 }
 
@@ -67,14 +67,14 @@ JobKind ForgetJobKind(const std::string& db_path, const JobSettings& settings) {
   kind.name = "forget";
   kind.first_stage = "forgetting";
   kind.needs_map = true;
-  kind.check = [](const JobSubmission& s) { CheckForgetRequest(DecodeForgetRequest(s.request, "a forget request"), s.now_ns); };
+  kind.check = [](const JobSubmission& s) { CheckForgetRequest(storage::DecodeForgetRequest(s.request, "a forget request"), s.now_ns); };
   kind.run = [db_path, settings](JobContext& job) { return RunForget(job, db_path, settings); };
   kind.note_when_failed_after_result = " (after the deletions were committed: see result)";
   return kind;
 }
 
 JobTicket JobService::SubmitForget(const std::string& map, const storage::ForgetRequest& request) {
-  return Submit("forget", map, EncodeForgetRequest(request));
+  return Submit("forget", map, storage::EncodeForgetRequest(request));
 }
 
 }  // namespace anchordb::services

@@ -8,6 +8,7 @@
 
 #include "storage/document_codec.h"
 #include "storage/forget_policy.h"
+#include "storage/job_documents.h"  // the built-in kinds' documents
 #include "storage/job_status.h"
 
 namespace anchordb::services {

@@ -74,7 +74,7 @@ TEST(forgetting_policy, ParsesDefaultsAndValidatesStrictly) {
 
 TEST(forgetting_job_json, TicketsAndViewsAsTheClientSeesThem) {
   RegisterBuiltInJobDocumentWriters();
-  const Json ticket = ToJson(services::JobTicket{7, "backup", std::nullopt, {services::EncodeBackupRequest({"/b/x.sqlite"}), {}}});
+  const Json ticket = ToJson(services::JobTicket{7, "backup", std::nullopt, {storage::EncodeBackupRequest({"/b/x.sqlite"}), {}}});
   EXPECT_EQ(ticket, Json::parse(R"({"job": 7, "status": "queued", "kind": "backup", "map": null,
                                     "request": {"file": "/b/x.sqlite"}})"));
   services::JobView v;
@@ -86,7 +86,7 @@ TEST(forgetting_job_json, TicketsAndViewsAsTheClientSeesThem) {
   v.progress = 0.5;
   services::ForgetRequest request;
   request.policy.event_max_age_s = std::nullopt;
-  v.request = {services::EncodeForgetRequest(request), {}};
+  v.request = {storage::EncodeForgetRequest(request), {}};
   const Json j = ToJson(v);
   EXPECT_EQ(j["status"], "running");
   EXPECT_EQ(j["map"], "home");
@@ -111,7 +111,7 @@ TEST(forgetting_job_json, OldRowsShowTheirTextAndUnreadableDocumentsSayWhy) {
   ASSERT_TRUE(j["result"].contains("unreadable"));
   EXPECT_NE(j["result"]["unreadable"].get<std::string>().find("job 5's result"), std::string::npos);
   v.kind = "no-such-kind";
-  v.request = {services::EncodeForgetRequest({}), {}};
+  v.request = {storage::EncodeForgetRequest({}), {}};
   j = ToJson(v);
   EXPECT_NE(j["request"]["unreadable"].get<std::string>().find("no-such-kind"), std::string::npos);
 }

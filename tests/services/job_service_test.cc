@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "schema/error.h"
-#include "services/jobs/job_documents.h"
+#include "storage/job_documents.h"
 #include "storage/repositories.h"
 #include "storage/store.h"
 #include "tests/support/temp_dir.h"
@@ -71,11 +71,11 @@ TEST_F(forgetting_job, BadInputQueuesNothingAndAGoodJobSucceeds) {
   EXPECT_EQ(job.map, "home");
   EXPECT_EQ(job.progress, 1.0);
   EXPECT_EQ(job.created_ns, clock_.NowNs());
-  const storage::ForgetRequest request = DecodeForgetRequest(job.request.encoded, "job");
+  const storage::ForgetRequest request = storage::DecodeForgetRequest(job.request.encoded, "job");
   EXPECT_TRUE(request.dry_run);
   EXPECT_EQ(request.policy.keyframe_max_age_s, 7 * 86400.0);
   ASSERT_TRUE(job.result);
-  const storage::ForgetReport result = DecodeForgetReport(job.result->encoded, "job");
+  const storage::ForgetReport result = storage::DecodeForgetReport(job.result->encoded, "job");
   EXPECT_TRUE(result.dry_run);
   EXPECT_EQ(result.now_ns, clock_.NowNs());  // aged from the service's clock
   EXPECT_EQ(result.features_deduplicated, 0);
@@ -87,7 +87,7 @@ TEST_F(forgetting_job, BadInputQueuesNothingAndAGoodJobSucceeds) {
   const JobView done = jobs.Get(real.job);
   EXPECT_EQ(done.status, JobStatus::kSucceeded) << done.error.value_or("");
   ASSERT_TRUE(done.result);
-  const storage::ForgetReport report = DecodeForgetReport(done.result->encoded, "job");
+  const storage::ForgetReport report = storage::DecodeForgetReport(done.result->encoded, "job");
   EXPECT_TRUE(report.committed);
   EXPECT_EQ(report.vacuum_mode, "switched_to_incremental");
   EXPECT_EQ(CodeOf([&] { jobs.Get(999); }), ErrorCode::kNotFound);
