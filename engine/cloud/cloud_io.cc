@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <charconv>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -99,24 +100,42 @@ DecodedCloud ToDecoded(const pcl::PCLPointCloud2& cloud, const Eigen::Vector4f& 
 // POINTS) within `max_points`, and the buffer within what the body can fill (binary: its bytes; ascii: four bytes
 // of values per character; LZF compression: at most about 100 times its bytes).
 void CheckPcdHeaderNumbers(std::string_view bytes, std::size_t max_points) {
-  std::istringstream header{std::string(bytes)};
   // PCL acts on every line it reads (a POINTS line resizes the buffer), also after a DATA line it does not take for
-  // the last one: the largest value of each key anywhere in the input counts.
+  // the last one: the largest value of each key anywhere in the input counts. Lines are read in place; only the few
+  // whose first word is a key are parsed.
   std::uint64_t width = 0, height = 0, points = 0, size = 0, count = 1, fields = 0;
+  // Each word's leading number, saturated: PCL's own parsing wraps a number too large for its type (found by the
+  // fuzz target: COUNT 8888...), and a sign or an overflow here must not make a value look small.
+  static constexpr std::uint64_t kCap = 1u << 30;
   const auto largest = [](std::istringstream& words, std::uint64_t& into) {
     std::uint64_t n = 0;
-    for (std::uint64_t v; words >> v; ++n) into = std::max(into, std::min<std::uint64_t>(v, 1u << 30));
+    for (std::string word; words >> word; ++n) {
+      std::uint64_t v = kCap;
+      if (word[0] != '-') {
+        const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), v);
+        if (ec == std::errc::invalid_argument) v = 0;
+        else if (ec == std::errc::result_out_of_range) v = kCap;
+        (void)end;
+      }
+      into = std::max(into, std::min(v, kCap));
+    }
     return n;
   };
-  for (std::string line; std::getline(header, line);) {
-    std::istringstream words(line);
-    std::string key;
-    words >> key;
-    if (key == "WIDTH") largest(words, width);
-    else if (key == "HEIGHT") largest(words, height);
-    else if (key == "POINTS") largest(words, points);
-    else if (key == "SIZE") fields = std::max(fields, largest(words, size));
-    else if (key == "COUNT") largest(words, count);
+  constexpr std::string_view kBlanks = " \t\r";  // PCL's word separators
+  for (std::size_t at = 0; at < bytes.size();) {
+    const std::size_t end = std::min(bytes.find('\n', at), bytes.size());
+    std::string_view line = bytes.substr(at, end - at);
+    at = end + 1;
+    line.remove_prefix(std::min(line.find_first_not_of(kBlanks), line.size()));
+    // PCL takes a line's first word by its prefix ("COUNTxyz" is a COUNT line).
+    const std::string_view key = line.substr(0, line.find_first_of(kBlanks));
+    const auto is = [&key](std::string_view name) { return key.substr(0, name.size()) == name; };
+    std::uint64_t* into = is("WIDTH") ? &width : is("HEIGHT") ? &height : is("POINTS") ? &points
+                        : is("SIZE")  ? &size  : is("COUNT")  ? &count  : nullptr;
+    if (!into) continue;
+    std::istringstream words{std::string(line.substr(key.size()))};
+    const std::uint64_t values = largest(words, *into);
+    if (into == &size) fields = std::max(fields, values);
   }
   const std::uint64_t grid = width * std::max<std::uint64_t>(height, 1);
   if (grid > max_points) {
