@@ -93,10 +93,6 @@ class DocumentReader {
 // typed hold JSON text instead.
 bool IsEncodedDocument(std::string_view stored);
 
-}  // namespace anchordb::storage
-
-namespace anchordb::storage {
-
 // A document as read from its row: `encoded` (above) for rows written since migration 0024; rows written before
 // hold the JSON text an earlier version wrote instead, kept as it was in `legacy_json` for the HTTP edge to show.
 // Services never decode an old row's document: its job ran (or was marked failed) before the upgrade.
