@@ -2,6 +2,9 @@
 
 #include <cmath>
 
+#include "api/classifier_documents_json.h"
+#include "api/stored_document_json.h"
+
 namespace anchordb::api {
 namespace {
 
@@ -123,11 +126,25 @@ services::TrainClassifierRequest ParseTrainClassifierRequest(const Json& body) {
 }
 
 Json ToJson(const services::ClassifierView& v) {
-  Json j = {{"name", v.name}, {"created", v.created_ns}, {"classes", v.classes}, {"feature_types", v.feature_types},
-            {"rounds", v.rounds}};
+  Json options = StoredDocumentJson(v.options, "classifier '" + v.name + "''s options", [](const std::string& d, const std::string& what) {
+    return ToJson(storage::DecodeClassifierOptions(d, what));
+  });
+  Json report = StoredDocumentJson(v.report, "classifier '" + v.name + "''s report", [](const std::string& d, const std::string& what) {
+    return ToJson(storage::DecodeClassifierReport(d, what));
+  });
+  // A model trained before schema 27: its classes, feature types and rounds as its JSON report has them.
+  Json classes = v.classes, feature_types = v.feature_types;
+  std::size_t rounds = static_cast<std::size_t>(v.rounds);
+  if (v.report.encoded.empty() && report.is_object()) {
+    classes = report.value("classes", Json::array());
+    feature_types = report.value("feature_types", Json::array());
+    rounds = report.value("rounds", Json::array()).size();
+  }
+  Json j = {{"name", v.name}, {"created", v.created_ns}, {"classes", classes}, {"feature_types", feature_types},
+            {"rounds", rounds}};
   if (!v.feature_dims.empty()) j["feature_dims"] = v.feature_dims;
-  j["options"] = Json::parse(v.request_json, nullptr, false);
-  j["report"] = Json::parse(v.report_json, nullptr, false);
+  j["options"] = std::move(options);
+  j["report"] = std::move(report);
   return j;
 }
 

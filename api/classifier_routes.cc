@@ -1,6 +1,7 @@
 // Routes of trained classifiers: parse (api/classifier_json.h), call one ClassifierService function, serialise.
 #include "api/classifier_routes.h"
 
+#include "api/classifier_documents_json.h"
 #include "api/classifier_json.h"
 #include "api/job_json.h"
 #include "api/route_params.h"
@@ -11,6 +12,7 @@ using namespace anchordb::services;
 using namespace params;
 
 void RegisterClassifierRoutes(Router& router, ClassifierService& c) {
+  RegisterClassifierJobDocumentWriters();
   using Req = const httplib::Request&;
   router.Add("POST", "/v1/classifiers", Role::kWriter,
       "Train an E-SAMME classifier as a job (k-fold cross-validation report, then the model on every sample); 202 with the job",

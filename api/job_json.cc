@@ -4,6 +4,7 @@
 #include <mutex>
 
 #include "api/request_limits.h"
+#include "api/stored_document_json.h"
 #include "schema/error.h"
 
 namespace anchordb::api {
@@ -24,22 +25,17 @@ std::map<std::string, JobDocumentWriters>& Writers() {
 }
 
 Json Document(const std::string& kind, std::int64_t job, const services::JobDocument& d, bool result) {
-  if (d.encoded.empty()) return Json::parse(d.legacy_json, nullptr, false);  // a row of schema 0004-0023
-  // The kinds whose documents are not typed yet (classifier and shape-model training) still store JSON text.
-  if (!storage::IsEncodedDocument(d.encoded)) return Json::parse(d.encoded, nullptr, false);
-  const std::string what = "job " + std::to_string(job) + (result ? "'s result" : "'s request");
-  std::function<Json(const std::string&, const std::string&)> writer;
+  DocumentJsonWriter writer;
   {
     std::lock_guard<std::mutex> lock(writers_mutex);
     const auto it = Writers().find(kind);
     if (it != Writers().end()) writer = result ? it->second.result : it->second.request;
   }
-  if (!writer) return Json{{"unreadable", "this server has no writer for the documents of job kind '" + kind + "'"}};
-  try {
-    return writer(d.encoded, what);
-  } catch (const Error& e) {
-    return Json{{"unreadable", e.what()}};
+  const std::string what = "job " + std::to_string(job) + (result ? "'s result" : "'s request");
+  if (!writer && !d.encoded.empty() && storage::IsEncodedDocument(d.encoded)) {
+    return Json{{"unreadable", "this server has no writer for the documents of job kind '" + kind + "'"}};
   }
+  return StoredDocumentJson(d, what, writer);
 }
 
 Json PolicyJson(const services::ForgetPolicy& p) {

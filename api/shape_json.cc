@@ -1,5 +1,8 @@
 #include "api/shape_json.h"
 
+#include "api/shape_documents_json.h"
+#include "api/stored_document_json.h"
+
 namespace anchordb::api {
 namespace {
 
@@ -84,9 +87,21 @@ services::TrainShapeModelRequest ParseTrainShapeModelRequest(
 }
 
 Json ToJson(const services::ShapeModelView& v) {
-  Json j = {{"name", v.name}, {"created_ns", v.created_ns}, {"categories", v.categories}};
-  j["report"] = Json::parse(v.report_json, nullptr, false);
-  j["options"] = Json::parse(v.request_json, nullptr, false);
+  Json report = StoredDocumentJson(v.report, "shape model '" + v.name + "''s report", [](const std::string& d, const std::string& what) {
+    return ToJson(storage::DecodeShapeModelReport(d, what));
+  });
+  Json options = StoredDocumentJson(v.options, "shape model '" + v.name + "''s options", [](const std::string& d, const std::string& what) {
+    return ToJson(storage::DecodeShapeModelOptions(d, what));
+  });
+  // A model trained before schema 27: its categories as its JSON report has them.
+  Json categories = v.categories;
+  if (v.report.encoded.empty() && report.is_object() && report.contains("categories") && report["categories"].is_array()) {
+    categories = Json::array();
+    for (const auto& c : report["categories"]) categories.push_back(c.is_object() ? c.value("category", "") : "");
+  }
+  Json j = {{"name", v.name}, {"created_ns", v.created_ns}, {"categories", categories}};
+  j["report"] = std::move(report);
+  j["options"] = std::move(options);
   return j;
 }
 

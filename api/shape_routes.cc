@@ -1,6 +1,7 @@
 // Routes of shape models: parse (api/shape_json.h), call one ShapeService function, serialise.
 #include "api/shape_routes.h"
 
+#include "api/shape_documents_json.h"
 #include "api/job_json.h"
 #include "api/route_params.h"
 #include "api/shape_json.h"
@@ -11,6 +12,7 @@ using namespace anchordb::services;
 using namespace params;
 
 void RegisterShapeRoutes(Router& router, ShapeService& s) {
+  RegisterShapeJobDocumentWriters();
   using Req = const httplib::Request&;
   router.Add("POST", "/v1/shape-models", Role::kWriter,
       "Train a 3D shape model (ISM with ray-based Hough voting) as a job: multipart part spec (JSON {name, params?, "

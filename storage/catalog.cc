@@ -141,7 +141,7 @@ std::vector<std::string> TableInfo::OrderColumns() const {
   return names;
 }
 
-bool IsDerivedTable(const std::string& name) { return name == "schema_migrations" || name == "instance_labels"; }
+bool IsDerivedTable(const std::string& name) { return name == "schema_migrations"; }
 
 std::vector<TableInfo> StoredTables(Connection& connection) {
   return InDependencyOrder(connection.engine() == Engine::kPostgresql ? PostgresTables(connection)

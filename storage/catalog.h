@@ -28,9 +28,8 @@ struct TableInfo {
   std::vector<std::string> OrderColumns() const;
 };
 
-// Tables the index or a trigger keeps from others, never copied: SQLite's R*-trees and their shadow tables, the
-// label index instance_labels (a trigger on instances fills it on both engines) and schema_migrations (each
-// database's own migrations write it).
+// Tables kept from others, never copied: SQLite's R*-trees and their shadow tables (the index keeps them) and
+// schema_migrations (each database's own migrations write it).
 bool IsDerivedTable(const std::string& name);
 
 // The stored (not derived) tables of the database, every table after the tables it references.

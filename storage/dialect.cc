@@ -21,10 +21,4 @@ std::string PointInBox(Engine engine, const SpatialIndex& index, const BoxBounds
   return sql + ")";
 }
 
-std::string JsonObjectEntries(Engine engine, std::string_view json_column) {
-  const std::string column(json_column);
-  if (engine == Engine::kPostgresql) return "jsonb_each_text(anchordb_json_object(" + column + "))";  // migration 0015
-  return "json_each(CASE WHEN json_valid(" + column + ") THEN " + column + " ELSE '{}' END)";
-}
-
 }  // namespace anchordb::storage

@@ -26,11 +26,6 @@ struct BoxBounds {
 };
 std::string PointInBox(Engine engine, const SpatialIndex& index, const BoxBounds& box);
 
-// A FROM item of the entries of the JSON object in `json_column` (text), with columns `key` (text) and `value` (cast
-// it: CAST(j.value AS DOUBLE PRECISION) reads as a number on both engines). A text that is not a JSON object has no
-// entries on either engine.
-std::string JsonObjectEntries(Engine engine, std::string_view json_column);
-
 // `INSERT ... ON CONFLICT DO NOTHING` and `ON CONFLICT (...) DO UPDATE` read alike on both engines (SQLite >= 3.24),
 // so no fragment is needed for them.
 

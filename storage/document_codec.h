@@ -29,6 +29,8 @@ enum class DocumentKind : std::uint16_t {
   kClassifierTrainingRequest = 12,
   kClassifierTrainingResult = 13,
   kClassifierReport = 14,
+  kClassifierOptions = 15,
+  kShapeModelOptions = 16,
 };
 
 class DocumentWriter {
@@ -93,9 +95,10 @@ class DocumentReader {
 // typed hold JSON text instead.
 bool IsEncodedDocument(std::string_view stored);
 
-// A document as read from its row: `encoded` (above) for rows written since migration 0024; rows written before
-// hold the JSON text an earlier version wrote instead, kept as it was in `legacy_json` for the HTTP edge to show.
-// Services never decode an old row's document: its job ran (or was marked failed) before the upgrade.
+// A document as read from its row: `encoded` (above) for rows written since the migration that typed it (0024: jobs,
+// 0027: trained models' options and reports); rows written before hold the JSON text an earlier version wrote
+// instead, kept as it was in `legacy_json` for the HTTP edge to show. Services never decode an old row's document:
+// its job ran (or was marked failed) before the upgrade, and a model's report is only shown.
 struct StoredDocument {
   std::string encoded;
   std::string legacy_json;

@@ -1,6 +1,7 @@
 #include "storage/event_repository.h"
 
 #include <algorithm>
+#include <unordered_map>
 
 #include "storage/dialect.h"
 #include "storage/event_details_columns.h"
@@ -13,28 +14,67 @@ constexpr const char* kSegmentColumns =
     "id, map_id, keyframe_id, x_m, y_m, z_m, min_x_m, min_y_m, min_z_m, max_x_m, max_y_m, max_z_m, points, sample";
 
 constexpr const char* kInstanceColumns =
-    "id, map_id, kind, status, labels, label_locked, status_locked, pinned, x_m, y_m, z_m, extent_x_m, extent_y_m, "
+    "id, map_id, kind, status, label_locked, status_locked, pinned, x_m, y_m, z_m, extent_x_m, extent_y_m, "
     "extent_z_m, yaw_rad, last_seen_ns, last_scene_id, created_ns, updated_ns";
 
-// An instance from kInstanceColumns starting at column `at` (then the sample when asked for).
+// "a, b" -> "p.a, p.b"
+std::string Qualified(std::string_view columns, std::string_view prefix) {
+  std::string out(prefix);
+  for (const char ch : columns) {
+    out += ch;
+    if (ch == ' ') out += prefix;
+  }
+  return out;
+}
+
+int ColumnCount(std::string_view columns) { return static_cast<int>(std::count(columns.begin(), columns.end(), ',')) + 1; }
+
+// ", NULL" `n` times: the padding of a UNION ALL part for columns it does not have.
+std::string Nulls(int n) {
+  std::string out;
+  for (; n > 0; --n) out += ", NULL";
+  return out;
+}
+
+constexpr std::size_t kMaxWhereFurniture = 10000;
+
+// An instance from kInstanceColumns starting at column `at` (then the sample when asked for), without its labels.
 InstanceRecord ReadInstance(const Statement& s, bool with_sample, int at = 0) {
   InstanceRecord r;
   r.id = s.Int(at + 0);
   r.map_id = s.Text(at + 1);
   r.kind = s.Text(at + 2);
   r.status = s.Text(at + 3);
-  r.labels_json = s.Text(at + 4);
-  r.label_locked = s.Int(at + 5) != 0;
-  r.status_locked = s.Int(at + 6) != 0;
-  r.pinned = s.Int(at + 7) != 0;
-  for (int k = 0; k < 3; ++k) r.position[k] = s.Double(at + 8 + k), r.extent[k] = s.Double(at + 11 + k);
-  r.yaw_rad = s.Double(at + 14);
-  r.last_seen_ns = s.Int(at + 15);
-  r.last_scene_id = OptionalInt(s, at + 16);
-  r.created_ns = s.Int(at + 17);
-  r.updated_ns = s.Int(at + 18);
-  if (with_sample && !s.IsNull(at + 19)) r.sample = s.Blob(at + 19);
+  r.label_locked = s.Int(at + 4) != 0;
+  r.status_locked = s.Int(at + 5) != 0;
+  r.pinned = s.Int(at + 6) != 0;
+  for (int k = 0; k < 3; ++k) r.position[k] = s.Double(at + 7 + k), r.extent[k] = s.Double(at + 10 + k);
+  r.yaw_rad = s.Double(at + 13);
+  r.last_seen_ns = s.Int(at + 14);
+  r.last_scene_id = OptionalInt(s, at + 15);
+  r.created_ns = s.Int(at + 16);
+  r.updated_ns = s.Int(at + 17);
+  if (with_sample && !s.IsNull(at + 18)) r.sample = s.Blob(at + 18);
   return r;
+}
+
+// Instances read with `LEFT JOIN instance_labels AS l` (kLabelColumns last, from `label_at`): one row per label, a
+// row with NULLs for an instance without any. Rows of one instance follow each other (the statements order by id).
+constexpr const char* kLabelColumns = "l.label, l.weight";
+void ReadInstanceRow(const Statement& s, bool with_sample, int label_at, std::vector<InstanceRecord>& out) {
+  if (out.empty() || out.back().id != s.Int(0)) out.push_back(ReadInstance(s, with_sample));
+  if (!s.IsNull(label_at)) out.back().labels[s.Text(label_at)] = s.Double(label_at + 1);
+}
+
+// The instance's labels become `labels` (its map_id copied from its row, for the index by map and label).
+void WriteLabels(Connection& c, std::int64_t instance_id, const std::map<std::string, double>& labels) {
+  Statement clear(c, "DELETE FROM instance_labels WHERE instance_id = ?");
+  clear.Bind(1, instance_id).Run();
+  for (const auto& [label, weight] : labels) {
+    Statement s(c, "INSERT INTO instance_labels (instance_id, map_id, label, weight) "
+                   "SELECT id, map_id, ?, ? FROM instances WHERE id = ?");
+    s.Bind(1, label).Bind(2, weight).Bind(3, instance_id).Run();
+  }
 }
 
 // The event's own columns, then its detail columns (event_details_columns.h) from kEventDetailsAt.
@@ -107,67 +147,75 @@ std::optional<SegmentRecord> FindSegment(Connection& c, std::int64_t id) {
 }
 
 std::int64_t InsertInstance(Connection& c, const InstanceRecord& r) {
-  Statement s(c, "INSERT INTO instances (map_id, kind, status, labels, label_locked, status_locked, pinned, x_m, y_m, z_m, "
+  Statement s(c, "INSERT INTO instances (map_id, kind, status, label_locked, status_locked, pinned, x_m, y_m, z_m, "
                  "extent_x_m, extent_y_m, extent_z_m, yaw_rad, last_seen_ns, last_scene_id, created_ns, updated_ns, sample) "
-                 "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING id");
-  s.Bind(1, r.map_id).Bind(2, r.kind).Bind(3, r.status).Bind(4, r.labels_json)
-      .Bind(5, static_cast<std::int64_t>(r.label_locked)).Bind(6, static_cast<std::int64_t>(r.status_locked))
-      .Bind(7, static_cast<std::int64_t>(r.pinned));
-  for (int k = 0; k < 3; ++k) s.Bind(8 + k, r.position[k]).Bind(11 + k, r.extent[k]);
-  s.Bind(14, r.yaw_rad).Bind(15, r.last_seen_ns);
-  BindOptional(s, 16, r.last_scene_id);
-  s.Bind(17, r.created_ns).Bind(18, r.updated_ns);
-  if (r.sample.empty()) s.BindNull(19); else s.BindBlob(19, r.sample);
-  return s.RunReturningId();
-}
-
-void UpdateInstance(Connection& c, const InstanceRecord& r) {
-  Statement s(c, "UPDATE instances SET kind = ?, status = ?, labels = ?, label_locked = ?, status_locked = ?, pinned = ?, "
-                 "x_m = ?, y_m = ?, z_m = ?, extent_x_m = ?, extent_y_m = ?, extent_z_m = ?, yaw_rad = ?, last_seen_ns = ?, "
-                 "last_scene_id = ?, updated_ns = ?, sample = COALESCE(?, sample) WHERE id = ?");
-  s.Bind(1, r.kind).Bind(2, r.status).Bind(3, r.labels_json).Bind(4, static_cast<std::int64_t>(r.label_locked))
+                 "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING id");
+  s.Bind(1, r.map_id).Bind(2, r.kind).Bind(3, r.status).Bind(4, static_cast<std::int64_t>(r.label_locked))
       .Bind(5, static_cast<std::int64_t>(r.status_locked)).Bind(6, static_cast<std::int64_t>(r.pinned));
   for (int k = 0; k < 3; ++k) s.Bind(7 + k, r.position[k]).Bind(10 + k, r.extent[k]);
   s.Bind(13, r.yaw_rad).Bind(14, r.last_seen_ns);
   BindOptional(s, 15, r.last_scene_id);
-  s.Bind(16, r.updated_ns);
-  if (r.sample.empty()) s.BindNull(17); else s.BindBlob(17, r.sample);
-  s.Bind(18, r.id).Run();
+  s.Bind(16, r.created_ns).Bind(17, r.updated_ns);
+  if (r.sample.empty()) s.BindNull(18); else s.BindBlob(18, r.sample);
+  const std::int64_t id = s.RunReturningId();
+  WriteLabels(c, id, r.labels);
+  return id;
+}
+
+void UpdateInstance(Connection& c, const InstanceRecord& r) {
+  Statement s(c, "UPDATE instances SET kind = ?, status = ?, label_locked = ?, status_locked = ?, pinned = ?, "
+                 "x_m = ?, y_m = ?, z_m = ?, extent_x_m = ?, extent_y_m = ?, extent_z_m = ?, yaw_rad = ?, last_seen_ns = ?, "
+                 "last_scene_id = ?, updated_ns = ?, sample = COALESCE(?, sample) WHERE id = ?");
+  s.Bind(1, r.kind).Bind(2, r.status).Bind(3, static_cast<std::int64_t>(r.label_locked))
+      .Bind(4, static_cast<std::int64_t>(r.status_locked)).Bind(5, static_cast<std::int64_t>(r.pinned));
+  for (int k = 0; k < 3; ++k) s.Bind(6 + k, r.position[k]).Bind(9 + k, r.extent[k]);
+  s.Bind(12, r.yaw_rad).Bind(13, r.last_seen_ns);
+  BindOptional(s, 14, r.last_scene_id);
+  s.Bind(15, r.updated_ns);
+  if (r.sample.empty()) s.BindNull(16); else s.BindBlob(16, r.sample);
+  s.Bind(17, r.id).Run();
+  WriteLabels(c, r.id, r.labels);
 }
 
 std::optional<InstanceRecord> FindInstance(Connection& c, const std::string& map_id, std::int64_t id, bool with_sample) {
-  Statement s(c, std::string("SELECT ") + kInstanceColumns + (with_sample ? ", sample" : "") +
-                     " FROM instances WHERE map_id = ? AND id = ?");
+  Statement s(c, "SELECT " + Qualified(kInstanceColumns, "i.") + (with_sample ? ", i.sample, " : ", ") + kLabelColumns +
+                     " FROM instances AS i LEFT JOIN instance_labels AS l ON l.instance_id = i.id"
+                     " WHERE i.map_id = ? AND i.id = ?");
   s.Bind(1, map_id).Bind(2, id);
-  if (!s.Step()) return std::nullopt;
-  return ReadInstance(s, with_sample);
+  std::vector<InstanceRecord> out;
+  const int label_at = ColumnCount(kInstanceColumns) + (with_sample ? 1 : 0);
+  while (s.Step()) ReadInstanceRow(s, with_sample, label_at, out);
+  if (out.empty()) return std::nullopt;
+  return std::move(out.front());
 }
 
 std::vector<InstanceRecord> ListInstances(Connection& c, const std::string& map_id, const InstanceFilter& f,
                                           bool with_sample) {
-  std::string sql = std::string("SELECT ") + kInstanceColumns + (with_sample ? ", sample" : "") +
-                    " FROM instances WHERE map_id = ?1 AND id > ?2";
-  if (f.kind) sql += " AND kind = ?3";
-  if (f.status) sql += " AND status = ?4";
-  else if (!f.include_deleted) sql += " AND status != 'deleted'";
+  // The page of instances first (ORDER BY id LIMIT), then their label rows joined to it.
+  std::string page = std::string("SELECT ") + kInstanceColumns + (with_sample ? ", sample" : "") +
+                     " FROM instances WHERE map_id = ?1 AND id > ?2";
+  if (f.kind) page += " AND kind = ?3";
+  if (f.status) page += " AND status = ?4";
+  else if (!f.include_deleted) page += " AND status != 'deleted'";
   if (f.label && !f.label_from_classifier) {
-    sql += " AND id IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1 AND label = ?6)";
+    page += " AND id IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1 AND label = ?6)";
   } else if (f.label) {
-    // One IN list (an OR of two would make SQLite scan the map's instances); a distribution that is not valid JSON
-    // counts as no classification instead of failing the query.
-    sql += " AND id IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1 AND label = ?6"
-           " UNION SELECT k.instance_id FROM instance_classifications AS k, " + JsonObjectEntries(c.engine(), "k.distribution") +
-           " AS j WHERE k.map_id = ?1 AND j.key = ?6 AND CAST(j.value AS DOUBLE PRECISION) > 0 AND ?6 != 'unknown'"
-           " AND k.instance_id NOT IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1))";
+    // One IN list (an OR of two would make SQLite scan the map's instances).
+    page += " AND id IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1 AND label = ?6"
+            " UNION SELECT k.instance_id FROM instance_classification_shares AS k"
+            " WHERE k.map_id = ?1 AND k.label = ?6 AND k.share > 0 AND ?6 != 'unknown'"
+            " AND k.instance_id NOT IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1))";
   }
-  sql += " ORDER BY id LIMIT ?5";
-  Statement s(c, sql);
+  page += " ORDER BY id LIMIT ?5";
+  Statement s(c, "SELECT " + Qualified(kInstanceColumns, "i.") + (with_sample ? ", i.sample, " : ", ") + kLabelColumns +
+                     " FROM (" + page + ") AS i LEFT JOIN instance_labels AS l ON l.instance_id = i.id ORDER BY i.id");
   s.Bind(1, map_id).Bind(2, f.after_id).Bind(5, static_cast<std::int64_t>(f.limit));
   if (f.kind) s.Bind(3, *f.kind);
   if (f.status) s.Bind(4, *f.status);
   if (f.label) s.Bind(6, *f.label);
   std::vector<InstanceRecord> out;
-  while (s.Step()) out.push_back(ReadInstance(s, with_sample));
+  const int label_at = ColumnCount(kInstanceColumns) + (with_sample ? 1 : 0);
+  while (s.Step()) ReadInstanceRow(s, with_sample, label_at, out);
   return out;
 }
 
@@ -212,62 +260,52 @@ std::optional<HistoryRecord> HistoryAt(Connection& c, std::int64_t instance_id, 
   return ReadHistory(s);
 }
 
-namespace {
-// "a, b" -> "p.a, p.b"
-std::string Qualified(std::string_view columns, std::string_view prefix) {
-  std::string out(prefix);
-  for (const char ch : columns) {
-    out += ch;
-    if (ch == ' ') out += prefix;
-  }
-  return out;
-}
-
-int ColumnCount(std::string_view columns) { return static_cast<int>(std::count(columns.begin(), columns.end(), ',')) + 1; }
-
-// ", NULL" `n` times: the padding of a UNION ALL part for columns it does not have.
-std::string Nulls(int n) {
-  std::string out;
-  for (; n > 0; --n) out += ", NULL";
-  return out;
-}
-
-constexpr std::size_t kMaxWhereFurniture = 10000;
-}  // namespace
 
 WhereInputs ReadWhereInputs(Connection& c, const std::string& map_id, const std::string& label, std::int64_t at_ns) {
   // Three parts in one UNION ALL, told apart by the first column: 0 a labelled object and its history entry at the
   // time (instance columns from 1, history columns after them), 1 a piece of furniture, 2 the newest graph id
-  // (column 1). No ORDER BY: the rows are put in order here, which spares PostgreSQL's executor two sort nodes and a
-  // subquery scan per call (measured with pgbench: about a fifth of the statement's cost on the where-is benchmark's
-  // map).
+  // (column 1); parts 0 and 1 are one row per label of the instance (label and weight last). No ORDER BY: the rows
+  // are put in order here, which spares PostgreSQL's executor two sort nodes and a subquery scan per call (measured
+  // with pgbench: about a fifth of the statement's cost on the where-is benchmark's map).
+  const int history_columns = ColumnCount(kHistoryColumns);
   const std::string sql =
-      std::string("SELECT 0, ") + Qualified(kInstanceColumns, "i.") + ", " + Qualified(kHistoryColumns, "h.") +
+      "SELECT 0, " + Qualified(kInstanceColumns, "i.") + ", " + Qualified(kHistoryColumns, "h.") + ", " + kLabelColumns +
       " FROM instances AS i LEFT JOIN instance_history AS h ON h.instance_id = i.id AND h.seq = ("
       "SELECT h2.seq FROM instance_history AS h2 WHERE h2.instance_id = i.id AND h2.stamp_ns <= ?3"
-      " ORDER BY h2.stamp_ns DESC, h2.seq DESC LIMIT 1)"
+      " ORDER BY h2.stamp_ns DESC, h2.seq DESC LIMIT 1) LEFT JOIN instance_labels AS l ON l.instance_id = i.id"
       " WHERE i.map_id = ?1 AND i.kind = 'object' AND i.status != 'deleted'"
       " AND i.id IN (SELECT instance_id FROM instance_labels WHERE map_id = ?1 AND label = ?2)"
-      " UNION ALL SELECT 1, " + kInstanceColumns + Nulls(ColumnCount(kHistoryColumns)) +
-      " FROM instances WHERE map_id = ?1 AND kind = 'furniture' AND status != 'deleted'"
+      " UNION ALL SELECT 1, " + Qualified(kInstanceColumns, "i.") + Nulls(history_columns) + ", " + kLabelColumns +
+      " FROM instances AS i LEFT JOIN instance_labels AS l ON l.instance_id = i.id"
+      " WHERE i.map_id = ?1 AND i.kind = 'furniture' AND i.status != 'deleted'"
       " UNION ALL SELECT 2, (SELECT MAX(id) FROM furniture_graphs WHERE map_id = ?1)" +
-      Nulls(ColumnCount(kInstanceColumns) - 1) + Nulls(ColumnCount(kHistoryColumns));
+      Nulls(ColumnCount(kInstanceColumns) - 1) + Nulls(history_columns) + Nulls(2);
   Statement s(c, sql);
   s.Bind(1, map_id).Bind(2, label).Bind(3, at_ns);
   WhereInputs out;
   constexpr int kInstanceAt = 1;
   const int history_at = kInstanceAt + ColumnCount(kInstanceColumns);
+  const int label_at = history_at + history_columns;
+  std::unordered_map<std::int64_t, std::size_t> labelled_at, furniture_at;  // instance id -> index in out
   while (s.Step()) {
     const std::int64_t part = s.Int(0);
+    InstanceRecord* instance = nullptr;
     if (part == 0) {
-      WhereCandidateRecord r{ReadInstance(s, false, kInstanceAt), std::nullopt};
-      if (!s.IsNull(history_at)) r.position = ReadHistory(s, history_at);
-      out.labelled.push_back(std::move(r));
+      const auto [at, added] = labelled_at.try_emplace(s.Int(kInstanceAt), out.labelled.size());
+      if (added) {
+        WhereCandidateRecord r{ReadInstance(s, false, kInstanceAt), std::nullopt};
+        if (!s.IsNull(history_at)) r.position = ReadHistory(s, history_at);
+        out.labelled.push_back(std::move(r));
+      }
+      instance = &out.labelled[at->second].instance;
     } else if (part == 1) {
-      out.furniture.push_back(ReadInstance(s, false, kInstanceAt));
+      const auto [at, added] = furniture_at.try_emplace(s.Int(kInstanceAt), out.furniture.size());
+      if (added) out.furniture.push_back(ReadInstance(s, false, kInstanceAt));
+      instance = &out.furniture[at->second];
     } else {
       out.newest_graph_id = OptionalInt(s, kInstanceAt);
     }
+    if (instance && !s.IsNull(label_at)) instance->labels[s.Text(label_at)] = s.Double(label_at + 1);
   }
   std::sort(out.labelled.begin(), out.labelled.end(),
             [](const WhereCandidateRecord& a, const WhereCandidateRecord& b) { return a.instance.id < b.instance.id; });

@@ -30,7 +30,9 @@ struct InstanceRecord {
   std::string map_id;
   std::string kind = "object";
   std::string status = "present";
-  std::string labels_json = "{}";
+  // The labels people gave (dialog, operator) or a furniture category's p(f): label -> weight, rows of
+  // instance_labels (migration 0026) written with the instance.
+  std::map<std::string, double> labels;
   bool label_locked = false;
   bool status_locked = false;
   bool pinned = false;
@@ -44,7 +46,7 @@ struct InstanceRecord {
   std::int64_t updated_ns = 0;
 };
 std::int64_t InsertInstance(Connection& c, const InstanceRecord& r);
-void UpdateInstance(Connection& c, const InstanceRecord& r);  // every column but id, map_id, created_ns
+void UpdateInstance(Connection& c, const InstanceRecord& r);  // every column and the labels, but id, map_id, created_ns
 std::optional<InstanceRecord> FindInstance(Connection& c, const std::string& map_id, std::int64_t id, bool with_sample);
 struct InstanceFilter {
   std::optional<std::string> kind;

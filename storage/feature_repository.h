@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "storage/connection.h"
+#include "storage/document_codec.h"
 
 namespace anchordb::storage {
 
@@ -66,8 +67,10 @@ struct ClassifierRecord {
   std::string name;
   std::int64_t created_ns = 0;
   std::string model;  // engine/classification EncodeEsamme blob
-  std::string request_json;
-  std::string report_json;
+  // Encoded (storage/classifier_documents.h: ClassifierOptionsRecord / ClassifierReportRecord); a row written before migration 0027
+  // holds the JSON text an earlier version wrote instead (legacy_json), for the HTTP edge to show as it was.
+  StoredDocument options;
+  StoredDocument report;
 };
 void UpsertClassifier(Connection& c, const ClassifierRecord& r);
 std::optional<ClassifierRecord> GetClassifier(Connection& c, const std::string& name, bool with_model);

@@ -1,7 +1,9 @@
 #pragma once
-// SQL for object classifications (migration 0015): a classifier's class distribution per instance, and the segment
-// an instance was last seen as (through its events).
+// SQL for object classifications (migration 0015): a classifier's class distribution per instance (its shares are
+// rows of instance_classification_shares, migration 0026), and the segment an instance was last seen as (through its
+// events).
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -15,12 +17,12 @@ struct InstanceClassificationRecord {
   std::string map_id;
   std::string classifier;
   std::string label;
-  std::string distribution_json = "{}";  // {class: share}
+  std::map<std::string, double> distribution;  // class -> share, every class of the classifier
   std::optional<std::int64_t> segment_id;
   std::optional<std::int64_t> keyframe_id;
   std::int64_t stamp_ns = 0;
 };
-// Inserts or replaces the instance's classification.
+// Inserts or replaces the instance's classification with its distribution.
 void UpsertInstanceClassification(Connection& c, const InstanceClassificationRecord& r);
 std::optional<InstanceClassificationRecord> FindInstanceClassification(Connection& c, const std::string& map_id,
                                                                        std::int64_t instance_id);

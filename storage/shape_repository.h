@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "storage/connection.h"
+#include "storage/document_codec.h"
 
 namespace anchordb::storage {
 
@@ -13,8 +14,10 @@ struct ShapeModelRecord {
   std::string name;
   std::int64_t created_ns = 0;
   std::string model;  // engine/shapes EncodeShapeModel bytes (empty when read without the model)
-  std::string request_json;
-  std::string report_json;
+  // Encoded (storage/shape_documents.h: ShapeModelOptionsRecord / ShapeModelReportRecord); a row written before migration 0027
+  // holds the JSON text an earlier version wrote instead (legacy_json), for the HTTP edge to show as it was.
+  StoredDocument options;
+  StoredDocument report;
 };
 
 void UpsertShapeModel(Connection& c, const ShapeModelRecord& r);

@@ -1,94 +1,105 @@
 #include "services/classification/classifier_service.h"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <set>
 
 #include "engine/classification/cross_validation.h"
 #include "schema/error.h"
-#include "schema/json_io.h"
+#include "schema/ids.h"
+#include "storage/classifier_documents.h"
 #include "storage/feature_repository.h"
 
 namespace anchordb::services {
 namespace {
 
-using Json = nlohmann::json;
 using engine::BaseSetting;
 
-Json SettingJson(const BaseSetting& s) {
-  Json j = {{"kind", engine::BaseKindName(s.kind)}};
-  switch (s.kind) {
-    case engine::BaseKind::kSvm:
-      j["C"] = s.svm_c;
-      j["gamma"] = s.svm_gamma;
-      if (s.svm_gamma_per_dim) j["gamma_per_dim"] = true;
-      break;
-    case engine::BaseKind::kDTree: j["max_depth"] = s.tree_max_depth; j["min_samples"] = s.tree_min_samples; break;
-    case engine::BaseKind::kMlp: j["hidden"] = s.mlp_hidden; j["iterations"] = s.mlp_iterations; break;
-    case engine::BaseKind::kKnn: j["k"] = s.knn_k; break;
-  }
-  return j;
+storage::ClassifierBaseSettingRecord SettingRecord(const BaseSetting& s) {
+  storage::ClassifierBaseSettingRecord r;
+  r.kind = engine::BaseKindName(s.kind);
+  r.svm_c = s.svm_c;
+  r.svm_gamma = s.svm_gamma;
+  r.svm_gamma_per_dim = s.svm_gamma_per_dim;
+  r.tree_max_depth = s.tree_max_depth;
+  r.tree_min_samples = s.tree_min_samples;
+  r.mlp_hidden.assign(s.mlp_hidden.begin(), s.mlp_hidden.end());
+  r.mlp_iterations = s.mlp_iterations;
+  r.knn_k = s.knn_k;
+  return r;
 }
 
-BaseSetting SettingOf(const Json& j) {
+int Narrow(std::int64_t v, const char* what) {
+  if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max()) {
+    throw Error(ErrorCode::kInternal, std::string("a stored classifier option is out of range: ") + what);
+  }
+  return static_cast<int>(v);
+}
+
+BaseSetting SettingOf(const storage::ClassifierBaseSettingRecord& r) {
   BaseSetting s;
-  s.kind = engine::ParseBaseKind(j.at("kind").get<std::string>());
-  s.svm_c = j.value("C", s.svm_c);
-  s.svm_gamma = j.value("gamma", s.svm_gamma);
-  s.svm_gamma_per_dim = j.value("gamma_per_dim", false);
-  s.tree_max_depth = j.value("max_depth", s.tree_max_depth);
-  s.tree_min_samples = j.value("min_samples", s.tree_min_samples);
-  s.mlp_hidden = j.value("hidden", s.mlp_hidden);
-  s.mlp_iterations = j.value("iterations", s.mlp_iterations);
-  s.knn_k = j.value("k", s.knn_k);
+  s.kind = engine::ParseBaseKind(r.kind);
+  s.svm_c = r.svm_c;
+  s.svm_gamma = r.svm_gamma;
+  s.svm_gamma_per_dim = r.svm_gamma_per_dim;
+  s.tree_max_depth = Narrow(r.tree_max_depth, "max_depth");
+  s.tree_min_samples = Narrow(r.tree_min_samples, "min_samples");
+  s.mlp_hidden.clear();
+  for (const std::int64_t n : r.mlp_hidden) s.mlp_hidden.push_back(Narrow(n, "hidden"));
+  s.mlp_iterations = Narrow(r.mlp_iterations, "iterations");
+  s.knn_k = Narrow(r.knn_k, "k");
   return s;
 }
 
 // The options of a request as stored (and shown with the model), without the samples.
-Json OptionsJson(const TrainClassifierRequest& r) {
-  Json base = Json::array();
-  for (const auto& s : r.base) base.push_back(SettingJson(s));
-  return {{"name", r.name}, {"base", base}, {"rounds", r.rounds}, {"selection", engine::SelectionName(r.selection)},
-          {"sample_factor", r.sample_factor}, {"folds", r.folds}, {"seed", r.seed},
-          {"update", engine::WeightUpdateName(r.update)}, {"error_on", engine::ErrorMeasureName(r.error_on)},
-          {"learning_rate", r.learning_rate}, {"unknown", r.unknown}, {"unknown_min_share", r.unknown_min_share}};
+storage::ClassifierOptionsRecord OptionsRecord(const TrainClassifierRequest& r) {
+  storage::ClassifierOptionsRecord o;
+  o.name = r.name;
+  for (const auto& s : r.base) o.base.push_back(SettingRecord(s));
+  o.rounds = r.rounds;
+  o.selection = engine::SelectionName(r.selection);
+  o.sample_factor = r.sample_factor;
+  o.folds = r.folds;
+  o.seed = r.seed;
+  o.update = engine::WeightUpdateName(r.update);
+  o.error_on = engine::ErrorMeasureName(r.error_on);
+  o.learning_rate = r.learning_rate;
+  o.unknown = r.unknown;
+  o.unknown_min_share = r.unknown_min_share;
+  return o;
 }
 
 // The job's request document: the options, the staging number of the samples (kept in memory until the job runs)
 // and what the samples are (how many, per class, per feature type the descriptor length) -- not the samples, which
 // would fill the jobs table and every job document served.
-Json TrainingJobDocument(const TrainClassifierRequest& r, const engine::TrainingSet& data, std::int64_t staging) {
-  Json j = OptionsJson(r);
-  Json classes = Json::object();
-  std::vector<int> counts(data.class_names.size(), 0);
+std::string TrainingJobDocument(const TrainClassifierRequest& r, const engine::TrainingSet& data, std::int64_t staging) {
+  storage::ClassifierTrainingRequestRecord d;
+  d.options = OptionsRecord(r);
+  std::vector<std::int64_t> counts(data.class_names.size(), 0);
   for (int l : data.labels) ++counts[static_cast<std::size_t>(l)];
-  for (std::size_t c = 0; c < counts.size(); ++c) classes[data.class_names[c]] = counts[c];
-  Json dims = Json::object();
-  for (std::size_t t = 0; t < data.feature_types.size(); ++t) dims[data.feature_types[t]] = data.features[t].cols();
-  j["sample_count"] = data.labels.size();
-  j["class_counts"] = classes;
-  j["feature_dims"] = dims;
-  j["staging"] = staging;
-  return j;
+  for (std::size_t c = 0; c < counts.size(); ++c) d.class_counts.emplace_back(data.class_names[c], counts[c]);
+  for (std::size_t t = 0; t < data.feature_types.size(); ++t) d.feature_dims.emplace_back(data.feature_types[t], data.features[t].cols());
+  d.sample_count = static_cast<std::int64_t>(data.labels.size());
+  d.staging = staging;
+  return storage::EncodeClassifierTrainingRequest(d);
 }
 
-// The options of a job document (the samples come from the staging area).
-TrainClassifierRequest DecodeOptions(const Json& j) {
+// The options of a stored document (the samples come from the staging area).
+TrainClassifierRequest DecodeOptions(const storage::ClassifierOptionsRecord& o) {
   TrainClassifierRequest r;
-  r.name = j.at("name").get<std::string>();
-  for (const Json& s : j.at("base")) r.base.push_back(SettingOf(s));
-  r.rounds = j.at("rounds").get<int>();
-  r.selection = engine::ParseSelection(j.at("selection").get<std::string>());
-  r.sample_factor = j.at("sample_factor").get<double>();
-  r.folds = j.at("folds").get<int>();
-  r.seed = j.at("seed").get<std::uint64_t>();
-  r.update = engine::ParseWeightUpdate(j.at("update").get<std::string>());
-  r.error_on = engine::ParseErrorMeasure(j.value("error_on", std::string("whole")));
-  r.learning_rate = j.value("learning_rate", 1.0);
-  r.unknown = j.at("unknown").get<bool>();
-  r.unknown_min_share = j.at("unknown_min_share").get<double>();
+  r.name = o.name;
+  for (const auto& s : o.base) r.base.push_back(SettingOf(s));
+  r.rounds = Narrow(o.rounds, "rounds");
+  r.selection = engine::ParseSelection(o.selection);
+  r.sample_factor = o.sample_factor;
+  r.folds = Narrow(o.folds, "folds");
+  r.seed = o.seed;
+  r.update = engine::ParseWeightUpdate(o.update);
+  r.error_on = engine::ParseErrorMeasure(o.error_on);
+  r.learning_rate = o.learning_rate;
+  r.unknown = o.unknown;
+  r.unknown_min_share = o.unknown_min_share;
   return r;
 }
 
@@ -164,45 +175,48 @@ engine::EsammeOptions OptionsOf(const TrainClassifierRequest& r) {
   return o;
 }
 
-Json Shares(const std::vector<std::pair<std::string, double>>& shares) {
-  Json j = Json::object();
-  for (const auto& [k, v] : shares) j[k] = v;
-  return j;
-}
-
-Json ReportJson(const engine::TrainingSet& data, const engine::EsammeModel& model,
-                const std::optional<engine::CrossValidationReport>& cv, double train_seconds) {
-  Json rounds = Json::array();
+storage::ClassifierReportRecord ReportRecord(const engine::TrainingSet& data, const engine::EsammeModel& model,
+                                             const std::optional<engine::CrossValidationReport>& cv, double train_seconds) {
+  storage::ClassifierReportRecord report;
+  report.classes = model.class_names;
+  report.feature_types = model.feature_types;
+  report.samples = static_cast<std::int64_t>(data.labels.size());
   for (const auto& r : model.rounds) {
-    rounds.push_back({{"setting", model.settings[static_cast<std::size_t>(r.setting)].Name()},
-                      {"feature_type", model.feature_types[static_cast<std::size_t>(r.feature_type)]},
-                      {"error", r.error}, {"alpha", r.alpha}});
+    report.rounds.push_back({model.settings[static_cast<std::size_t>(r.setting)].Name(),
+                             model.feature_types[static_cast<std::size_t>(r.feature_type)], r.error, r.alpha});
   }
-  Json j = {{"classes", model.class_names}, {"feature_types", model.feature_types}, {"samples", data.labels.size()},
-            {"rounds", rounds}, {"train_seconds", train_seconds}};
+  report.train_seconds = train_seconds;
   if (cv) {
-    j["cross_validation"] = {{"folds", cv->folds}, {"test_error", cv->test_error},
-                             {"train_error_per_round", cv->train_error_per_round},
-                             {"test_error_per_round", cv->test_error_per_round},
-                             {"test_error_worst_fold_per_round", cv->test_error_worst_fold_per_round},
-                             {"confusion", cv->confusion}, {"rounds_per_fold", cv->rounds_per_fold},
-                             {"kind_share", Shares(cv->kind_share)}, {"setting_share", Shares(cv->setting_share)},
-                             {"feature_share", Shares(cv->feature_share)}};
+    storage::ClassifierCrossValidationRecord c;
+    c.folds = cv->folds;
+    c.test_error = cv->test_error;
+    c.train_error_per_round = cv->train_error_per_round;
+    c.test_error_per_round = cv->test_error_per_round;
+    c.test_error_worst_fold_per_round = cv->test_error_worst_fold_per_round;
+    for (const auto& row : cv->confusion) c.confusion.emplace_back(row.begin(), row.end());
+    c.rounds_per_fold.assign(cv->rounds_per_fold.begin(), cv->rounds_per_fold.end());
+    c.kind_share = cv->kind_share;
+    c.setting_share = cv->setting_share;
+    c.feature_share = cv->feature_share;
+    report.cross_validation = std::move(c);
   }
-  return j;
+  return report;
 }
 
 ClassifierView ViewOf(const storage::ClassifierRecord& r) {
   ClassifierView v;
   v.name = r.name;
   v.created_ns = r.created_ns;
-  v.report_json = r.report_json;
-  v.request_json = r.request_json;
-  const Json report = Json::parse(r.report_json, nullptr, false);
-  if (report.is_object()) {
-    v.classes = report.value("classes", std::vector<std::string>{});
-    v.feature_types = report.value("feature_types", std::vector<std::string>{});
-    v.rounds = static_cast<int>(report.value("rounds", Json::array()).size());
+  v.options = r.options;
+  v.report = r.report;
+  if (!r.report.encoded.empty()) {
+    try {
+      const storage::ClassifierReportRecord report = storage::DecodeClassifierReport(r.report.encoded, "classifier '" + r.name + "''s report");
+      v.classes = report.classes;
+      v.feature_types = report.feature_types;
+      v.rounds = static_cast<int>(report.rounds.size());
+    } catch (const Error&) {  // shown as unreadable where the report is written out
+    }
   }
   return v;
 }
@@ -216,15 +230,15 @@ ClassifierService::ClassifierService(storage::Store& store, JobService& jobs, Fe
   kind.name = "classifier_train";
   kind.first_stage = "cross-validating";
   kind.check = [](const JobSubmission& s) {  // SubmitTraining validated the samples; the document must decode
-    const TrainClassifierRequest r = DecodeOptions(Json::parse(s.request));
+    const TrainClassifierRequest r = DecodeOptions(storage::DecodeClassifierTrainingRequest(s.request, "the training request").options);
     json::CheckId(r.name, "name");
   };
   kind.run = [&store = store_, &clock = clock_, staging_area = staging_](JobContext& job) -> std::optional<std::string> {
-    const Json document = Json::parse(job.request());
-    TrainClassifierRequest r = DecodeOptions(document);
+    const storage::ClassifierTrainingRequestRecord document = storage::DecodeClassifierTrainingRequest(job.request(), "the training request");
+    TrainClassifierRequest r = DecodeOptions(document.options);
     {
       std::lock_guard<std::mutex> lock(staging_area->mutex);
-      auto it = staging_area->staged.find(document.at("staging").get<std::int64_t>());
+      auto it = staging_area->staged.find(document.staging);
       if (it == staging_area->staged.end()) {
         throw Error(ErrorCode::kUnprocessable, "the training samples are gone (server restarted)", "samples");
       }
@@ -247,13 +261,16 @@ ClassifierService::ClassifierService(storage::Store& store, JobService& jobs, Fe
       return true;
     });
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const Json report = ReportJson(data, model, cv, seconds);
-    store.Write([&](storage::Connection& c) {
-      storage::UpsertClassifier(c, {r.name, clock.NowNs(), engine::EncodeEsamme(model), OptionsJson(r).dump(), report.dump()});
-    });
-    Json result = {{"name", r.name}, {"rounds", model.rounds.size()}, {"train_seconds", seconds}};
-    if (cv) result["test_error"] = cv->test_error;
-    return result.dump();
+    storage::ClassifierRecord stored;
+    stored.name = r.name;
+    stored.created_ns = clock.NowNs();
+    stored.model = engine::EncodeEsamme(model);
+    stored.options.encoded = storage::EncodeClassifierOptions(OptionsRecord(r));
+    stored.report.encoded = storage::EncodeClassifierReport(ReportRecord(data, model, cv, seconds));
+    store.Write([&](storage::Connection& c) { storage::UpsertClassifier(c, stored); });
+    storage::ClassifierTrainingResultRecord result{r.name, static_cast<std::int64_t>(model.rounds.size()), seconds, std::nullopt};
+    if (cv) result.test_error = cv->test_error;
+    return storage::EncodeClassifierTrainingResult(result);
   };
   jobs_.Register(std::move(kind));
 }
@@ -289,7 +306,7 @@ JobTicket ClassifierService::SubmitTraining(TrainClassifierRequest request) {
     staging_->staged[staging].samples = std::move(request.samples);
   }
   try {
-    JobTicket ticket = jobs_.Submit("classifier_train", std::nullopt, TrainingJobDocument(request, data, staging).dump());
+    JobTicket ticket = jobs_.Submit("classifier_train", std::nullopt, TrainingJobDocument(request, data, staging));
     std::lock_guard<std::mutex> lock(staging_->mutex);
     if (auto it = staging_->staged.find(staging); it != staging_->staged.end()) it->second.job = ticket.job;
     return ticket;

@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "engine/classification/esamme.h"
+#include "storage/classifier_documents.h"
+#include "storage/document_codec.h"
 
 namespace anchordb::services {
 
@@ -41,8 +43,10 @@ struct ClassifierView {
   std::vector<std::string> feature_types;
   std::vector<int> feature_dims;
   int rounds = 0;
-  std::string report_json;   // the cross-validation report and the chosen rounds (JSON text)
-  std::string request_json;  // the training options (without the samples)
+  // As stored (storage/classifier_documents.h: the training options without the samples, the cross-validation report
+  // and the chosen rounds); a model trained before schema 27 has JSON text there (StoredDocument::legacy_json).
+  storage::StoredDocument options;
+  storage::StoredDocument report;
 };
 
 struct PredictRequest {

@@ -11,7 +11,6 @@
 #include "schema/ids.h"
 #include "services/classification/classifier_service.h"
 #include "services/common/require.h"
-#include "services/common/stored_labels.h"
 #include "services/events/event_details.h"
 #include "services/scene/keyframe_listener.h"
 #include "storage/blob_codec.h"
@@ -167,22 +166,20 @@ void StoreClassification(storage::Connection& c, const ClassifyInstanceRequest& 
   row.map_id = request.map;
   row.classifier = request.classifier;
   row.label = result.label;
-  row.distribution_json = EncodeLabelWeights(classified);
+  row.distribution = classified;
   row.segment_id = in.segment.id;
   row.keyframe_id = result.keyframe;
   row.stamp_ns = stamp_ns;
   const auto before = storage::FindInstanceClassification(c, request.map, request.instance);
   storage::UpsertInstanceClassification(c, row);
-  const engine::LabelWeights named = DecodeLabelWeights(r.labels_json, "instance " + std::to_string(r.id));
+  const engine::LabelWeights& named = r.labels;
   const engine::EffectiveLabels effective = engine::EffectiveObjectLabels(named, r.label_locked, classified);
   result.applied = engine::ClassifierLabelApplies(named, r.label_locked);
   result.label_source = engine::LabelSourceName(effective.source);
   result.labels = effective.distribution;
   const std::optional<std::string> shown = engine::ShownClassifierClass(effective);
   const std::optional<std::string> shown_before =
-      before ? engine::ShownClassifierClass(engine::EffectiveObjectLabels(
-                   named, r.label_locked,
-                   DecodeLabelWeights(before->distribution_json, "the classification of instance " + std::to_string(r.id))))
+      before ? engine::ShownClassifierClass(engine::EffectiveObjectLabels(named, r.label_locked, before->distribution))
              : std::nullopt;
   if (shown && shown != shown_before) {
     result.event = InsertLabelledEvent(c, request.map, request.instance, *shown, "classifier", stamp_ns,

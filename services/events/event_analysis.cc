@@ -95,7 +95,7 @@ AnalysisInputs ReadAnalysisInputs(storage::Connection& c, const KeyframeNotice& 
              [](const storage::InstanceRecord& a, const storage::InstanceRecord& b) { return a.id < b.id; });
   for (const storage::InstanceRecord& r : in.records) {
     std::optional<storage::HistoryRecord> last;
-    if (r.status == "absent" && !r.status_locked && !DecodeLabels(r.labels_json).empty()) {
+    if (r.status == "absent" && !r.status_locked && !r.labels.empty()) {
       const auto history = storage::ListHistory(c, r.id);
       if (!history.empty()) last = history.back();
     }
@@ -121,7 +121,7 @@ std::vector<engine::KnownInstance> KnownInstances(const AnalysisInputs& in) {
     k.id = r.id;
     k.present = r.status == "present";
     k.status_locked = r.status_locked;
-    k.labels = DecodeLabels(r.labels_json);
+    k.labels = r.labels;
     k.position_m = Vec(r.position);
     k.extent_m = Vec(r.extent);
     k.sample_m = DecodePoints(r.sample);

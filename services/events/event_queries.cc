@@ -68,9 +68,9 @@ LabelResult EventService::LabelInstance(const std::string& map, std::int64_t id,
     if (r.label_locked && !from_operator) {
       throw Error(ErrorCode::kConflict, "instance " + std::to_string(id) + " was labelled by an operator; only an operator relabels it", "label");
     }
-    const engine::LabelWeights weights = engine::AddLabel(DecodeLabels(r.labels_json), label, from_operator);
+    const engine::LabelWeights weights = engine::AddLabel(r.labels, label, from_operator);
     r.label_locked = r.label_locked || from_operator;
-    r.labels_json = EncodeLabels(weights);
+    r.labels = weights;
     r.updated_ns = clock_.NowNs();
     storage::UpdateInstance(c, r);
     const std::int64_t event = InsertLabelledEvent(c, map, id, label, from_operator ? "operator" : "dialog", r.updated_ns,
@@ -101,7 +101,7 @@ InstanceView EventService::CreateInstance(const std::string& map, const CreateIn
   storage::InstanceRecord r;
   r.map_id = map;
   r.kind = request.kind == InstanceKind::kObject ? "object" : "furniture";
-  r.labels_json = EncodeLabels({{label, 1.0}});
+  r.labels = {{label, 1.0}};
   r.label_locked = true;  // entered by an operator
   for (int k = 0; k < 3; ++k) r.position[k] = request.position_m[k], r.extent[k] = request.extent_m[k];
   r.yaw_rad = request.yaw_rad;
@@ -215,7 +215,7 @@ WhereCandidates ClassifiedCandidates(storage::Connection& c, const std::string& 
   for (auto& r : storage::ListInstances(c, map, f, false)) {
     const auto k = storage::FindInstanceClassification(c, map, r.id);
     if (!k) continue;  // named by a person, and found by the first pass's rules
-    const engine::EffectiveLabels labels = engine::EffectiveObjectLabels(DecodeLabels(r.labels_json), r.label_locked,
+    const engine::EffectiveLabels labels = engine::EffectiveObjectLabels(r.labels, r.label_locked,
                                                                         DecodeDistribution(*k));
     if (labels.source != engine::LabelSource::kClassifier) continue;
     const auto p = labels.distribution.find(label);
@@ -253,7 +253,7 @@ WherePlacement GeometryPlacement(const std::vector<storage::InstanceRecord>& fur
                                  const engine::grounding::Viewpoint& viewer) {
   std::vector<engine::FurniturePiece> pieces;
   for (const auto& r : furniture) {
-    pieces.push_back({std::to_string(r.id), engine::FurnitureName(DecodeLabels(r.labels_json)), {r.position[0], r.position[1]},
+    pieces.push_back({std::to_string(r.id), engine::FurnitureName(r.labels), {r.position[0], r.position[1]},
                       {r.extent[0], r.extent[1]}, r.yaw_rad});
   }
   const engine::Placement placed = engine::PlaceObject(p_map, pieces, viewer);
@@ -285,7 +285,7 @@ WhereAnswer EventService::Where(const std::string& map, const WhereRequest& requ
   });
   WhereCandidates found;
   for (auto& r : inputs.labelled) {
-    const double p = engine::LabelProbability(DecodeLabels(r.instance.labels_json), label);
+    const double p = engine::LabelProbability(r.instance.labels, label);
     found.Add(std::move(r.instance), p, std::move(r.position));
   }
   int chosen = engine::ChooseWhereCandidate(found.scored);

@@ -7,7 +7,6 @@
 
 #include "engine/classification/object_labels.h"
 #include "schema/error.h"
-#include "services/common/stored_labels.h"
 #include "storage/blob_codec.h"
 #include "storage/repositories.h"
 
@@ -23,10 +22,6 @@ std::vector<T> DecodeArray(const std::string& blob, storage::BlobElement element
 }
 
 }  // namespace
-
-engine::LabelWeights DecodeLabels(const std::string& labels_json) { return DecodeLabelWeights(labels_json, "an instance"); }
-
-std::string EncodeLabels(const engine::LabelWeights& weights) { return EncodeLabelWeights(weights); }
 
 std::string EncodePoints(const std::vector<Eigen::Vector3f>& points) {
   std::vector<float> flat;
@@ -66,7 +61,7 @@ EventView ToView(const storage::EventRecord& e) {
 InstanceView ToView(const storage::InstanceRecord& r) { return ToView(r, std::nullopt); }
 
 engine::LabelWeights DecodeDistribution(const storage::InstanceClassificationRecord& r) {
-  return DecodeLabelWeights(r.distribution_json, "the classification of instance " + std::to_string(r.instance_id));
+  return r.distribution;
 }
 
 InstanceView ViewOf(storage::Connection& c, const storage::InstanceRecord& r) {
@@ -85,7 +80,7 @@ InstanceView ToView(const storage::InstanceRecord& r, const std::optional<storag
                                                 classification->segment_id, classification->keyframe_id,
                                                 classification->stamp_ns};
   }
-  const engine::EffectiveLabels labels = engine::EffectiveObjectLabels(DecodeLabels(r.labels_json), r.label_locked, classified);
+  const engine::EffectiveLabels labels = engine::EffectiveObjectLabels(r.labels, r.label_locked, classified);
   v.labels = labels.distribution;
   v.label_source = engine::LabelSourceName(labels.source);
   v.label_locked = r.label_locked;
@@ -110,7 +105,7 @@ storage::InstanceRecord RequireInstance(storage::Connection& c, const std::strin
 
 bool SameRecord(const storage::InstanceRecord& a, const storage::InstanceRecord& b) {
   const auto columns = [](const storage::InstanceRecord& r) {
-    return std::tie(r.id, r.map_id, r.kind, r.status, r.labels_json, r.label_locked, r.status_locked, r.pinned, r.yaw_rad,
+    return std::tie(r.id, r.map_id, r.kind, r.status, r.labels, r.label_locked, r.status_locked, r.pinned, r.yaw_rad,
                     r.sample, r.last_seen_ns, r.last_scene_id, r.created_ns, r.updated_ns);
   };
   return columns(a) == columns(b) && std::equal(a.position, a.position + 3, b.position) &&

@@ -17,10 +17,6 @@
 
 namespace anchordb::services::events_internal {
 
-// The labels column: {"label": weight, ...}.
-engine::LabelWeights DecodeLabels(const std::string& labels_json);
-std::string EncodeLabels(const engine::LabelWeights& weights);
-
 // A point sample (blob f32 {n, 3}); empty blob: no points.
 std::string EncodePoints(const std::vector<Eigen::Vector3f>& points_m);
 std::vector<Eigen::Vector3f> DecodePoints(const std::string& blob);

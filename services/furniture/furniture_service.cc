@@ -6,7 +6,6 @@
 #include "engine/grounding/ambiguity.h"
 #include "engine/grounding/orientation_prior.h"
 #include "engine/grounding/readings.h"
-#include "services/common/stored_labels.h"
 #include "services/furniture/hypotheses_records.h"
 #include "storage/event_repository.h"
 #include "storage/repositories.h"
@@ -28,7 +27,7 @@ std::vector<FurniturePieceRequest> PiecesFromInstances(storage::Store& store, co
     f.kind = "furniture";
     f.limit = 100000;
     for (const auto& r : storage::ListInstances(c, map, f, false)) {
-      const engine::LabelWeights labels = ReadLabelWeights(r.labels_json).value_or(engine::LabelWeights{});
+      const std::map<std::string, double>& labels = r.labels;
       FurniturePieceRequest piece;
       piece.id = "f" + std::to_string(r.id);
       piece.position_m = Eigen::Vector2d(r.position[0], r.position[1]);

@@ -12,7 +12,6 @@
 #include "schema/error.h"
 #include "services/common/cloud_bytes.h"
 #include "services/common/require.h"
-#include "services/common/stored_labels.h"
 #include "services/scene/keyframe_listener.h"
 #include "storage/blob_codec.h"
 #include "storage/event_repository.h"
@@ -39,10 +38,6 @@ std::vector<Eigen::Vector3f> DecodeCloudBlob(const std::string& blob) {
   return out;
 }
 
-std::map<std::string, double> Labels(const std::string& text) {
-  return ReadLabelWeights(text).value_or(engine::LabelWeights{});
-}
-
 bool IsPerceived(const storage::InstanceRecord& r, const std::set<std::int64_t>& perceived) { return perceived.count(r.id) > 0; }
 
 seg::Footprint FootprintOfInstance(const storage::InstanceRecord& r) {
@@ -58,7 +53,7 @@ FurnitureInstanceView ViewOf(const storage::InstanceRecord& r, const std::option
   v.id = r.id;
   v.perceived = f.has_value();
   double sum = 0.0;
-  for (const auto& [k, w] : Labels(r.labels_json)) v.categories.push_back({k, w}), sum += w;
+  for (const auto& [k, w] : r.labels) v.categories.push_back({k, w}), sum += w;
   for (auto& c : v.categories) c.probability = sum > 0 ? c.probability / sum : 0.0;
   std::stable_sort(v.categories.begin(), v.categories.end(), [](const CategoryShare& a, const CategoryShare& b) { return a.probability > b.probability; });
   if (!v.categories.empty()) v.label = v.categories.front().category, v.label_probability = v.categories.front().probability;
@@ -305,7 +300,7 @@ SegmentOutcome WriteSegment(storage::Connection& c, const InstanceWrite& w, cons
     inst = known[static_cast<std::size_t>(best)];
     fr = *storage::FindFurnitureInstance(c, w.map, inst.id, false);
     evidence.insert(fr.evidence_keyframes.begin(), fr.evidence_keyframes.end());
-    labels = seg::AverageCategoryShares(Labels(inst.labels_json), static_cast<double>(fr.observations), w.category_ids, classes.p);
+    labels = seg::AverageCategoryShares(inst.labels, static_cast<double>(fr.observations), w.category_ids, classes.p);
     fr.observations += 1;
   } else {
     inst.map_id = w.map;
@@ -315,7 +310,7 @@ SegmentOutcome WriteSegment(storage::Connection& c, const InstanceWrite& w, cons
     fr.created_ns = w.now_ns;
     fr.observations = 1;
   }
-  inst.labels_json = EncodeLabelWeights(labels);
+  inst.labels = labels;
   inst.label_locked = false;
   inst.status = "present";
   inst.position[0] = s.footprint.centre_m.x();

@@ -1,28 +1,84 @@
 #include "services/shapes/shape_service.h"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <set>
 
 #include "engine/cloud/cloud_io.h"
 #include "schema/error.h"
-#include "schema/json_io.h"
+#include "schema/ids.h"
+#include "storage/shape_documents.h"
 #include "storage/shape_repository.h"
 
 namespace anchordb::services {
 namespace {
 
-using Json = nlohmann::json;
+storage::ShapeModelParamsRecord ParamsRecord(const engine::ShapeModelParams& p) {
+  storage::ShapeModelParamsRecord r;
+  r.voxel_m = p.voxel_m;
+  r.normal_radius_m = p.normal_radius_m;
+  r.boundary_angle_rad = p.boundary_angle_rad;
+  r.keypoint_spacing_m = p.keypoint_spacing_m;
+  r.shot_radius_m = p.shot_radius_m;
+  r.codebook_size = p.codebook_size;
+  r.activated_words = p.activated_words;
+  r.azimuth_bins = p.azimuth_bins;
+  r.polar_bins = p.polar_bins;
+  r.sphere_radius_m = p.sphere_radius_m;
+  r.detection_spacing_m = p.detection_spacing_m;
+  r.accept_fraction = p.accept_fraction;
+  r.merge_distance_m = p.merge_distance_m;
+  r.max_keypoints = p.max_keypoints;
+  r.seed = p.seed;
+  r.size_weight = p.size_weight;
+  r.size_bandwidth = p.size_bandwidth;
+  r.size_floor = p.size_floor;
+  return r;
+}
 
-Json ParamsJson(const engine::ShapeModelParams& p) {
-  return {{"voxel_m", p.voxel_m}, {"normal_radius_m", p.normal_radius_m}, {"boundary_angle_rad", p.boundary_angle_rad},
-          {"keypoint_spacing_m", p.keypoint_spacing_m}, {"shot_radius_m", p.shot_radius_m},
-          {"codebook_size", p.codebook_size}, {"activated_words", p.activated_words}, {"azimuth_bins", p.azimuth_bins},
-          {"polar_bins", p.polar_bins}, {"sphere_radius_m", p.sphere_radius_m},
-          {"detection_spacing_m", p.detection_spacing_m}, {"accept_fraction", p.accept_fraction},
-          {"merge_distance_m", p.merge_distance_m}, {"max_keypoints", p.max_keypoints}, {"seed", p.seed}};
+int Narrow(std::int64_t v, const char* what) {
+  if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max()) {
+    throw Error(ErrorCode::kInternal, std::string("a stored shape-model parameter is out of range: ") + what);
+  }
+  return static_cast<int>(v);
+}
+
+engine::ShapeModelParams ParamsOf(const storage::ShapeModelParamsRecord& r) {
+  engine::ShapeModelParams p;
+  p.voxel_m = r.voxel_m;
+  p.normal_radius_m = r.normal_radius_m;
+  p.boundary_angle_rad = r.boundary_angle_rad;
+  p.keypoint_spacing_m = r.keypoint_spacing_m;
+  p.shot_radius_m = r.shot_radius_m;
+  p.codebook_size = Narrow(r.codebook_size, "codebook_size");
+  p.activated_words = Narrow(r.activated_words, "activated_words");
+  p.azimuth_bins = Narrow(r.azimuth_bins, "azimuth_bins");
+  p.polar_bins = Narrow(r.polar_bins, "polar_bins");
+  p.sphere_radius_m = r.sphere_radius_m;
+  p.detection_spacing_m = r.detection_spacing_m;
+  p.accept_fraction = r.accept_fraction;
+  p.merge_distance_m = r.merge_distance_m;
+  p.max_keypoints = Narrow(r.max_keypoints, "max_keypoints");
+  p.seed = r.seed;
+  p.size_weight = r.size_weight;
+  p.size_bandwidth = r.size_bandwidth;
+  p.size_floor = r.size_floor;
+  return p;
+}
+
+storage::ShapeModelReportRecord ReportRecord(const engine::TrainingReport& report, int mesh_views, double seconds) {
+  storage::ShapeModelReportRecord r;
+  for (std::size_t c = 0; c < report.categories.size(); ++c) {
+    r.categories.push_back({report.categories[c], report.samples_per_category[c], report.keypoints_per_category[c]});
+  }
+  r.samples = report.samples;
+  r.keypoints = report.keypoints;
+  r.codebook_size = report.codebook_size;
+  r.non_empty_bins = report.non_empty_bins;
+  r.mesh_views = mesh_views;
+  r.train_seconds = seconds;
+  return r;
 }
 
 std::vector<Eigen::Vector3f> DecodePoints(const std::string& body, std::size_t max_points, const std::string& field) {
@@ -50,39 +106,24 @@ ShapeService::ShapeService(storage::Store& store, JobService& jobs, ShapeSetting
   kind.name = "shape_model_train";
   kind.first_stage = "scanning";
   kind.check = [](const JobSubmission& s) {
-    const Json j = Json::parse(s.request);
-    json::CheckId(j.at("name").get<std::string>(), "name");
+    const storage::ShapeTrainingRequestRecord r = storage::DecodeShapeTrainingRequest(s.request, "the training request");
+    json::CheckId(r.options.name, "name");
+    engine::CheckShapeModelParams(ParamsOf(r.options.params));
   };
   kind.run = [&store = store_, &clock = clock_, staging_area = staging_](JobContext& job) -> std::optional<std::string> {
-    const Json request = Json::parse(job.request());
-    const std::string name = request.at("name").get<std::string>();
+    const storage::ShapeTrainingRequestRecord request = storage::DecodeShapeTrainingRequest(job.request(), "the training request");
+    const std::string& name = request.options.name;
     Staged staged;
     {
       std::lock_guard<std::mutex> lock(staging_area->mutex);
-      auto it = staging_area->staged.find(request.at("staging").get<std::int64_t>());
+      auto it = staging_area->staged.find(request.staging);
       if (it == staging_area->staged.end()) {
         throw Error(ErrorCode::kUnprocessable, "the training samples are gone (server restarted)", "samples");
       }
       staged = std::move(it->second);
       staging_area->staged.erase(it);
     }
-    engine::ShapeModelParams params = engine::ShapeModelParams{};
-    const Json& p = request.at("params");
-    params.voxel_m = p.at("voxel_m");
-    params.normal_radius_m = p.at("normal_radius_m");
-    params.boundary_angle_rad = p.at("boundary_angle_rad");
-    params.keypoint_spacing_m = p.at("keypoint_spacing_m");
-    params.shot_radius_m = p.at("shot_radius_m");
-    params.codebook_size = p.at("codebook_size");
-    params.activated_words = p.at("activated_words");
-    params.azimuth_bins = p.at("azimuth_bins");
-    params.polar_bins = p.at("polar_bins");
-    params.sphere_radius_m = p.at("sphere_radius_m");
-    params.detection_spacing_m = p.at("detection_spacing_m");
-    params.accept_fraction = p.at("accept_fraction");
-    params.merge_distance_m = p.at("merge_distance_m");
-    params.max_keypoints = p.at("max_keypoints");
-    params.seed = p.at("seed");
+    const engine::ShapeModelParams params = ParamsOf(request.options.params);
     const auto start = std::chrono::steady_clock::now();
     std::vector<engine::LabelledCloud> samples = std::move(staged.clouds);
     for (std::size_t m = 0; m < staged.meshes.size(); ++m) {
@@ -97,20 +138,14 @@ ShapeService::ShapeService(storage::Store& store, JobService& jobs, ShapeSetting
       return true;
     }, &report);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    Json per_category = Json::array();
-    for (std::size_t c = 0; c < report.categories.size(); ++c) {
-      per_category.push_back({{"category", report.categories[c]}, {"samples", report.samples_per_category[c]},
-                              {"keypoints", report.keypoints_per_category[c]}});
-    }
-    const Json report_json = {{"categories", per_category}, {"samples", report.samples}, {"keypoints", report.keypoints},
-                              {"codebook_size", report.codebook_size}, {"non_empty_bins", report.non_empty_bins},
-                              {"mesh_views", staged.mesh_views}, {"train_seconds", seconds}};
-    Json options = request;
-    options.erase("staging");
-    store.Write([&](storage::Connection& c) {
-      storage::UpsertShapeModel(c, {name, clock.NowNs(), engine::EncodeShapeModel(model), options.dump(), report_json.dump()});
-    });
-    return Json{{"name", name}, {"samples", report.samples}, {"keypoints", report.keypoints}, {"train_seconds", seconds}}.dump();
+    storage::ShapeModelRecord stored;
+    stored.name = name;
+    stored.created_ns = clock.NowNs();
+    stored.model = engine::EncodeShapeModel(model);
+    stored.options.encoded = storage::EncodeShapeModelOptions(request.options);
+    stored.report.encoded = storage::EncodeShapeModelReport(ReportRecord(report, staged.mesh_views, seconds));
+    store.Write([&](storage::Connection& c) { storage::UpsertShapeModel(c, stored); });
+    return storage::EncodeShapeTrainingResult({name, report.samples, report.keypoints, seconds});
   };
   jobs_.Register(std::move(kind));
 }
@@ -125,7 +160,10 @@ JobTicket ShapeService::SubmitTraining(const TrainShapeModelRequest& r) {
   if (r.mesh_views < 1 || r.mesh_views > 72) throw Error(ErrorCode::kInvalidArgument, "mesh_views must be in [1, 72]", "mesh_views");
   Staged staged;
   staged.mesh_views = r.mesh_views;
-  Json parts = Json::array();
+  storage::ShapeTrainingRequestRecord request;
+  request.options.name = r.name;
+  request.options.params = ParamsRecord(r.params);
+  request.options.mesh_views = r.mesh_views;
   std::set<std::string> with_samples;
   for (std::size_t i = 0; i < r.samples.size(); ++i) {
     const auto& s = r.samples[i];
@@ -136,7 +174,7 @@ JobTicket ShapeService::SubmitTraining(const TrainShapeModelRequest& r) {
     if (s.kind == ShapeSampleKind::kCloud) {
       auto points = DecodePoints(s.body, settings_.max_points, field);
       if (points.size() < 10) throw Error(ErrorCode::kUnprocessable, "a training cloud needs at least 10 points", field);
-      parts.push_back({{"part", field}, {"category", s.category}, {"kind", "cloud"}, {"points", points.size()}});
+      request.options.parts.push_back({field, s.category, false, static_cast<std::int64_t>(points.size())});
       staged.clouds.push_back({s.category, std::move(points)});
     } else {
       engine::TriangleMesh mesh;
@@ -145,7 +183,7 @@ JobTicket ShapeService::SubmitTraining(const TrainShapeModelRequest& r) {
       } catch (const Error& e) {
         throw Error(e.code(), e.what(), field);
       }
-      parts.push_back({{"part", field}, {"category", s.category}, {"kind", "mesh"}, {"triangles", mesh.triangles.size()}});
+      request.options.parts.push_back({field, s.category, true, static_cast<std::int64_t>(mesh.triangles.size())});
       staged.meshes.emplace_back(s.category, std::move(mesh));
     }
     with_samples.insert(s.category);
@@ -159,10 +197,9 @@ JobTicket ShapeService::SubmitTraining(const TrainShapeModelRequest& r) {
     staging = staging_->next++;
     staging_->staged[staging] = std::move(staged);
   }
-  const Json request = {{"name", r.name}, {"params", ParamsJson(r.params)}, {"mesh_views", r.mesh_views},
-                        {"parts", parts}, {"staging", staging}};
+  request.staging = staging;
   try {
-    return jobs_.Submit("shape_model_train", std::nullopt, request.dump());
+    return jobs_.Submit("shape_model_train", std::nullopt, storage::EncodeShapeTrainingRequest(request));
   } catch (...) {
     std::lock_guard<std::mutex> lock(staging_->mutex);
     staging_->staged.erase(staging);
@@ -176,11 +213,15 @@ ShapeModelView ViewOf(const storage::ShapeModelRecord& r) {
   ShapeModelView v;
   v.name = r.name;
   v.created_ns = r.created_ns;
-  v.report_json = r.report_json;
-  v.request_json = r.request_json;
-  const Json report = Json::parse(r.report_json, nullptr, false);
-  if (report.is_object() && report.contains("categories")) {
-    for (const auto& c : report["categories"]) v.categories.push_back(c.value("category", ""));
+  v.options = r.options;
+  v.report = r.report;
+  if (!r.report.encoded.empty()) {
+    try {
+      for (const auto& c : storage::DecodeShapeModelReport(r.report.encoded, "shape model '" + r.name + "''s report").categories) {
+        v.categories.push_back(c.category);
+      }
+    } catch (const Error&) {  // shown as unreadable where the report is written out
+    }
   }
   return v;
 }

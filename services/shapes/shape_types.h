@@ -9,6 +9,8 @@
 #include <Eigen/Core>
 
 #include "engine/shapes/shape_model.h"
+#include "storage/document_codec.h"
+#include "storage/shape_documents.h"
 
 namespace anchordb::services {
 
@@ -34,8 +36,10 @@ struct ShapeModelView {
   std::string name;
   std::int64_t created_ns = 0;
   std::vector<std::string> categories;
-  std::string report_json;   // the training report (JSON text)
-  std::string request_json;  // the training options, without the samples
+  // As stored (storage/shape_documents.h: the training options without the samples, the training report); a model
+  // trained before schema 27 has JSON text there (StoredDocument::legacy_json).
+  storage::StoredDocument options;
+  storage::StoredDocument report;
 };
 
 struct ShapeClassification {

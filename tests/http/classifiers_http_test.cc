@@ -87,7 +87,26 @@ TEST_F(ClassifiersHttpTest, TrainReportPredictAndRestart) {
   EXPECT_EQ(cv["test_error_per_round"].size(), 10u);
   EXPECT_EQ(cv["confusion"].size(), 3u);
   EXPECT_LT(cv["feature_share"].value("noise", 0.0), 0.2);
+  EXPECT_EQ(model["report"]["rounds"].size(), static_cast<std::size_t>(model["rounds"].get<int>()));
   EXPECT_EQ(Call("GET", "/v1/classifiers", {}, 200)["classifiers"].size(), 1u);
+  // The stored options (typed documents, issue 30) as the request gave them, each base setting with its kind's
+  // parameters only; the job's request says what the samples were, its result what came of them.
+  const json& options = model["options"];
+  EXPECT_EQ(options["name"], "rooms");
+  EXPECT_EQ(options["rounds"], 10);
+  EXPECT_EQ(options["folds"], 4);
+  EXPECT_EQ(options["seed"], 3);
+  ASSERT_GE(options["base"].size(), 4u) << options.dump();  // the SVM's C list is a grid of settings
+  EXPECT_EQ(options["base"][1], json({{"kind", "dtree"}, {"max_depth", 3}, {"min_samples", 2}}));
+  EXPECT_EQ(options["base"][2], json({{"kind", "knn"}, {"k", 3}}));
+  EXPECT_EQ(options["base"][3]["kind"], "svm");
+  EXPECT_EQ(options["base"][3]["gamma"], 0.5);
+  EXPECT_EQ(done["request"]["sample_count"], 60);
+  EXPECT_EQ(done["request"]["class_counts"], json({{"bathroom", 20}, {"kitchen", 20}, {"office", 20}}));
+  EXPECT_EQ(done["request"]["base"], options["base"]);
+  EXPECT_EQ(done["result"]["name"], "rooms");
+  EXPECT_EQ(done["result"]["rounds"], model["rounds"]);
+  EXPECT_EQ(done["result"]["test_error"], cv["test_error"]);
 
   const json probe = {{"samples", Samples(5, 99, false)}};
   const json before = Call("POST", "/v1/classifiers/rooms:predict", probe, 200);

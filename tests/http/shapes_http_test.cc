@@ -3,6 +3,7 @@
 // input (empty clouds, NaN points, a category with no samples, broken mesh faces) refused with the field named.
 #include "api/http_api.h"  // Eigen before httplib (see api/http_api.h)
 #include "engine/cloud/cloud_io.h"
+#include "engine/shapes/shape_model.h"
 #include "engine/shapes/virtual_scan.h"
 #include "tests/support/furniture_meshes.h"
 #include "tests/support/server_process.h"
@@ -98,6 +99,20 @@ TEST_F(ShapesHttpTest, TrainClassifyDetectAndRestart) {
   EXPECT_EQ(model["categories"], json({"table", "cabinet"}));
   EXPECT_EQ(model["report"]["samples"], 25);  // 12 virtual scans per mesh + 1 cloud
   EXPECT_EQ(model["report"]["categories"][0]["samples"], 13);
+  // The stored options (typed documents, issue 30): the request's parameters over the defaults, the parts as they
+  // arrived; the job's request and result as served.
+  EXPECT_EQ(model["options"]["params"]["codebook_size"], 60);
+  EXPECT_EQ(model["options"]["params"]["max_keypoints"], 250);
+  EXPECT_EQ(model["options"]["params"]["voxel_m"], engine::ShapeModelParams{}.voxel_m);
+  ASSERT_EQ(model["options"]["parts"].size(), 3u);
+  EXPECT_EQ(model["options"]["parts"][0]["kind"], "mesh");
+  EXPECT_GT(model["options"]["parts"][0]["triangles"].get<int>(), 0);
+  EXPECT_EQ(model["options"]["parts"][2]["kind"], "cloud");
+  EXPECT_GT(model["options"]["parts"][2]["points"].get<int>(), 10);
+  EXPECT_EQ(model["options"]["mesh_views"], 12);
+  EXPECT_EQ(done["request"]["params"], model["options"]["params"]);
+  EXPECT_EQ(done["result"]["samples"], model["report"]["samples"]);
+  EXPECT_EQ(done["result"]["name"], "furniture");
   EXPECT_GT(model["report"]["categories"][1]["keypoints"].get<int>(), 100);
   EXPECT_EQ(model["report"]["codebook_size"], 60);
   EXPECT_EQ(Get("/v1/shape-models")["shape_models"].size(), 1u);

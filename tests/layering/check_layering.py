@@ -1,6 +1,6 @@
 """SPEC section 2, checked: the dependency direction of the modules (storage/ includes schema/ alone), which library
 may link cpp-httplib, that service headers expose neither HTTP nor JSON documents, that services/ names no MIME
-type or HTTP header, and that no services/ or storage/ file outside JSON_DEBT includes JSON.
+type or HTTP header, and that no services/ or storage/ file includes JSON, directly or through a project header.
 
 Usage: check_layering.py SOURCE_DIR LINKS_FILE. LINKS_FILE has one line per library target: "target: dep;dep;..."
 (its transitive link closure, written at configure time by tests/CMakeLists.txt). Exits 1 with every violation."""
@@ -15,14 +15,6 @@ JSON = ("nlohmann/", "schema/json_io.h", "services/common/transitional_json.h")
 # (services/common/exported_bytes.h).
 HTTP_LITERAL = re.compile(r'"((application|image|text|multipart|audio|video)/[a-z0-9.+-]+|X-[A-Za-z][A-Za-z-]*|'
                           r'Content-(Type|Disposition|Length|Encoding)|Retry-After|Location|Cache-Control|Last-Event-ID)"')
-# Files of services/ and storage/ that still reach JSON, directly or through a project header (issue 30: stored documents become typed records with
-# storage codecs, JSON moves to api/). The list only shrinks: a file not on it that includes JSON fails, and so does
-# a file on it that no longer does (take it off).
-JSON_DEBT = {
-    "services/classification/classifier_service.cc",
-    "services/common/stored_labels.cc",
-    "services/shapes/shape_service.cc",
-}
 # Modules whose own headers and sources may not include the named prefixes (api -> services -> engine, storage;
 # api reaches stored types only through the service headers).
 FORBIDDEN = {
@@ -115,11 +107,8 @@ def main():
                         problems.append(f"{rel} includes {inc} ({module}/ may not)")
     for module in ("services", "storage"):
         for rel in sources(root, module):
-            uses_json = any(inc.startswith(JSON) for _, inc in transitive_includes(root, rel, set()))
-            if uses_json and rel not in JSON_DEBT:
+            if any(inc.startswith(JSON) for _, inc in transitive_includes(root, rel, set())):
                 problems.append(f"{rel} includes JSON ({module}/ may not: JSON is api/'s)")
-            if not uses_json and rel in JSON_DEBT:
-                problems.append(f"{rel} no longer includes JSON: take it off JSON_DEBT in {os.path.basename(__file__)}")
     for rel in sources(root, "services") + sources(root, "storage"):
         with open(os.path.join(root, rel), encoding="utf-8") as f:
             for number, line in enumerate(f, 1):

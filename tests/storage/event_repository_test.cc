@@ -20,10 +20,11 @@ namespace {
 class EventRepositoryTest : public ::testing::TestWithParam<Engine> {
  protected:
   void SetUp() override { store_ = testing::OpenStoreWithMaps(db_.location(), {"home", "other"}); }
-  static InstanceRecord Object(const std::string& map, const std::string& labels) {
+  using Labels = std::map<std::string, double>;
+  static InstanceRecord Object(const std::string& map, const Labels& labels) {
     InstanceRecord r;
     r.map_id = map;
-    r.labels_json = labels;
+    r.labels = labels;
     r.created_ns = r.updated_ns = r.last_seen_ns = 10;
     return r;
   }
@@ -45,9 +46,9 @@ INSTANTIATE_TEST_SUITE_P(Engines, EventRepositoryTest, testing::BothEngines(), t
 
 TEST_P(EventRepositoryTest, LabelIndexFollowsEveryChangeOfTheLabels) {
   const auto [keys, cup, elsewhere] = store_->Write([](Connection& c) {
-    return std::make_tuple(InsertInstance(c, Object("home", R"({"keys":2.0,"wallet":1.0})")),
-                           InsertInstance(c, Object("home", R"({"cup":1.0})")),
-                           InsertInstance(c, Object("other", R"({"keys":1.0})")));
+    return std::make_tuple(InsertInstance(c, Object("home", Labels{{"keys", 2.0}, {"wallet", 1.0}})),
+                           InsertInstance(c, Object("home", Labels{{"cup", 1.0}})),
+                           InsertInstance(c, Object("other", Labels{{"keys", 1.0}})));
   });
   EXPECT_EQ(WithLabel("home", "keys"), std::vector<std::int64_t>{keys});
   EXPECT_EQ(WithLabel("home", "wallet"), std::vector<std::int64_t>{keys});
@@ -55,29 +56,48 @@ TEST_P(EventRepositoryTest, LabelIndexFollowsEveryChangeOfTheLabels) {
   EXPECT_TRUE(WithLabel("home", "spoon").empty());
   store_->Write([&, cup_id = cup, keys_id = keys](Connection& c) {  // copies: clang 14 cannot capture a binding
     auto r = *FindInstance(c, "home", cup_id, false);
-    r.labels_json = R"({"keys":1.0})";  // relabelled: now also a candidate for the keys
+    r.labels = Labels{{"keys", 1.0}};  // relabelled: now also a candidate for the keys
     UpdateInstance(c, r);
     auto k = *FindInstance(c, "home", keys_id, false);
-    k.labels_json = R"({"wallet":1.0})";
+    k.labels = Labels{{"wallet", 1.0}};
     UpdateInstance(c, k);
   });
   EXPECT_EQ(WithLabel("home", "keys"), std::vector<std::int64_t>{cup});
   EXPECT_EQ(WithLabel("home", "wallet"), std::vector<std::int64_t>{keys});
   EXPECT_TRUE(WithLabel("home", "cup").empty());
-  // The index equals the JSON for every instance.
-  const auto mismatches = store_->Read([](Connection& c) {
-    Statement s(c, "SELECT COUNT(*) FROM (SELECT i.id, j.key FROM instances i, " +
-                       JsonObjectEntries(c.engine(), "i.labels") +
-                       " AS j EXCEPT SELECT instance_id, label FROM instance_labels) AS mismatch");
-    s.Step();
-    return s.Int(0);
+  // The labels read back as written (and as updated), by id and in a listing; an instance without labels has none.
+  const std::int64_t bare = store_->Write([](Connection& c) { return InsertInstance(c, Object("home", Labels{})); });
+  store_->Read([&, cup_id = cup, keys_id = keys, other_id = elsewhere](Connection& c) {
+    EXPECT_EQ(FindInstance(c, "home", cup_id, false)->labels, (Labels{{"keys", 1.0}}));
+    EXPECT_EQ(FindInstance(c, "home", keys_id, true)->labels, (Labels{{"wallet", 1.0}}));
+    EXPECT_EQ(FindInstance(c, "other", other_id, false)->labels, (Labels{{"keys", 1.0}}));
+    EXPECT_TRUE(FindInstance(c, "home", bare, false)->labels.empty());
+    std::map<std::int64_t, Labels> listed;
+    for (const auto& r : ListInstances(c, "home", InstanceFilter{}, true)) {
+      EXPECT_FALSE(listed.count(r.id)) << "instance " << r.id << " listed twice";
+      listed[r.id] = r.labels;
+    }
+    EXPECT_EQ(listed, (std::map<std::int64_t, Labels>{{keys_id, {{"wallet", 1.0}}}, {cup_id, {{"keys", 1.0}}}, {bare, {}}}));
   });
-  EXPECT_EQ(mismatches, 0);
+  // Deleting an instance deletes its label rows.
+  const auto label_rows = [&] {
+    return store_->Read([](Connection& c) {
+      Statement s(c, "SELECT COUNT(*) FROM instance_labels");
+      s.Step();
+      return s.Int(0);
+    });
+  };
+  EXPECT_EQ(label_rows(), 3);
+  store_->Write([&, cup_id = cup](Connection& c) {
+    Statement s(c, "DELETE FROM instances WHERE id = ?");
+    s.Bind(1, cup_id).Run();
+  });
+  EXPECT_EQ(label_rows(), 2);
 }
 
 TEST_P(EventRepositoryTest, HistoryAtATimeAndEventsWithEvidence) {
   const std::int64_t id = store_->Write([](Connection& c) {
-    const std::int64_t i = InsertInstance(c, Object("home", "{}"));
+    const std::int64_t i = InsertInstance(c, Object("home", Labels{}));
     AppendHistory(c, {i, 0, 100, true, {1, 2, 3}, std::nullopt});
     AppendHistory(c, {i, 0, 200, false, {1, 2, 3}, std::nullopt});
     AppendHistory(c, {i, 0, 300, true, {4, 5, 6}, std::nullopt});
@@ -118,16 +138,16 @@ TEST_P(EventRepositoryTest, WhereInputsInOneStatementAgreeWithTheSeparateQueries
     std::int64_t early, unplaced, table;
   };
   const Ids ids = store_->Write([](Connection& c) {
-    const std::int64_t early = InsertInstance(c, Object("home", R"({"keys":1.0})"));
+    const std::int64_t early = InsertInstance(c, Object("home", Labels{{"keys", 1.0}}));
     AppendHistory(c, {early, 0, 100, true, {1, 2, 3}, std::nullopt});
     AppendHistory(c, {early, 0, 300, true, {4, 5, 6}, std::nullopt});
-    const std::int64_t unplaced = InsertInstance(c, Object("home", R"({"keys":0.5,"cup":0.5})"));  // no history
-    InstanceRecord gone = Object("home", R"({"keys":1.0})");
+    const std::int64_t unplaced = InsertInstance(c, Object("home", Labels{{"keys", 0.5}, {"cup", 0.5}}));  // no history
+    InstanceRecord gone = Object("home", Labels{{"keys", 1.0}});
     gone.status = "deleted";
     InsertInstance(c, gone);
-    InsertInstance(c, Object("home", R"({"wallet":1.0})"));
-    InsertInstance(c, Object("other", R"({"keys":1.0})"));
-    InstanceRecord table = Object("home", R"({"table":1.0})");
+    InsertInstance(c, Object("home", Labels{{"wallet", 1.0}}));
+    InsertInstance(c, Object("other", Labels{{"keys", 1.0}}));
+    InstanceRecord table = Object("home", Labels{{"table", 0.75}, {"desk", 0.25}});
     table.kind = "furniture";
     table.position[0] = 7.5;
     table.extent[1] = 1.25;
@@ -144,7 +164,8 @@ TEST_P(EventRepositoryTest, WhereInputsInOneStatementAgreeWithTheSeparateQueries
     ASSERT_EQ(in.labelled.size(), 2u) << at_ns;  // not the deleted one, not the wallet, not the other map's
     EXPECT_EQ(in.labelled[0].instance.id, ids.early);
     EXPECT_EQ(in.labelled[1].instance.id, ids.unplaced);
-    EXPECT_EQ(in.labelled[1].instance.labels_json, R"({"keys":0.5,"cup":0.5})");
+    EXPECT_EQ(in.labelled[0].instance.labels, (Labels{{"keys", 1.0}}));
+    EXPECT_EQ(in.labelled[1].instance.labels, (Labels{{"keys", 0.5}, {"cup", 0.5}}));  // every label, one instance
     EXPECT_FALSE(in.labelled[1].position.has_value());
     // The position at the time is HistoryAt's.
     const auto expected = store_->Read([&](Connection& c) { return HistoryAt(c, ids.early, at_ns); });
@@ -159,6 +180,7 @@ TEST_P(EventRepositoryTest, WhereInputsInOneStatementAgreeWithTheSeparateQueries
     EXPECT_EQ(in.furniture[0].kind, "furniture");
     EXPECT_EQ(in.furniture[0].position[0], 7.5);
     EXPECT_EQ(in.furniture[0].extent[1], 1.25);
+    EXPECT_EQ(in.furniture[0].labels, (Labels{{"table", 0.75}, {"desk", 0.25}}));
     EXPECT_FALSE(in.newest_graph_id.has_value());
   }
   EXPECT_EQ(read_at(50).labelled[0].position, std::nullopt);

@@ -1,5 +1,6 @@
 // Anchored features (migration 0012) on a real SQLite file: R*Tree box and radius queries, time filters, the anchor
 // index kept in step when a keyframe or a map cascades its features away, codebooks and classifiers across a reopen.
+#include "storage/classifier_documents.h"
 #include "storage/feature_repository.h"
 
 #include <gtest/gtest.h>
@@ -122,7 +123,22 @@ TEST_P(FeatureRepositoryTest, CodebooksAndClassifiersSurviveAReopen) {
     b.centres = {1, 2, 3, 4, 5, 6};
     b.features = 10;
     UpsertCodebook(c, b);
-    UpsertClassifier(c, {"rooms", 5, std::string("ESAM\0\x01", 6), "{}", R"({"test_error":0.2})"});
+    ClassifierRecord k;
+    k.name = "rooms";
+    k.created_ns = 5;
+    k.model = std::string("ESAM\0\x01", 6);
+    ClassifierOptionsRecord options;
+    options.name = "rooms";
+    options.base = {{"svm", 1.0, 0.5, true, 0, 0, {}, 0, 0}, {"mlp", 0, 0, false, 0, 0, {16, 8}, 200, 0}};
+    options.selection = "maximum";
+    k.options.encoded = EncodeClassifierOptions(options);
+    ClassifierReportRecord report;
+    report.classes = {"kitchen", "hall"};
+    report.cross_validation = ClassifierCrossValidationRecord{};
+    report.cross_validation->confusion = {{3, 1}, {0, 4}};
+    report.cross_validation->setting_share = {{"svm(C=1,gamma=0.5/d)", 1.0}};
+    k.report.encoded = EncodeClassifierReport(report);
+    UpsertClassifier(c, k);
   });
   Open();
   const auto b = store_->Read([](Connection& c) { return GetCodebook(c, "home", "fpfh"); });
@@ -132,7 +148,18 @@ TEST_P(FeatureRepositoryTest, CodebooksAndClassifiersSurviveAReopen) {
   const auto r = store_->Read([](Connection& c) { return GetClassifier(c, "rooms", true); });
   ASSERT_TRUE(r.has_value());
   EXPECT_EQ(r->model, std::string("ESAM\0\x01", 6));
-  EXPECT_EQ(store_->Read([](Connection& c) { return ListClassifiers(c); }).size(), 1u);
+  const ClassifierOptionsRecord options = DecodeClassifierOptions(r->options.encoded, "options");
+  ASSERT_EQ(options.base.size(), 2u);
+  EXPECT_TRUE(options.base[0].svm_gamma_per_dim);
+  EXPECT_EQ(options.base[1].mlp_hidden, (std::vector<std::int64_t>{16, 8}));
+  EXPECT_EQ(options.selection, "maximum");
+  const auto listed = store_->Read([](Connection& c) { return ListClassifiers(c); });
+  ASSERT_EQ(listed.size(), 1u);
+  const ClassifierReportRecord report = DecodeClassifierReport(listed[0].report.encoded, "report");
+  EXPECT_EQ(report.classes, (std::vector<std::string>{"kitchen", "hall"}));
+  ASSERT_TRUE(report.cross_validation.has_value());
+  EXPECT_EQ(report.cross_validation->confusion, (std::vector<std::vector<std::int64_t>>{{3, 1}, {0, 4}}));
+  EXPECT_EQ(report.cross_validation->setting_share.at(0).second, 1.0);
 }
 
 }  // namespace

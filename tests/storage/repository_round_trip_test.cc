@@ -4,12 +4,14 @@
 #include <gtest/gtest.h>
 
 #include "schema/error.h"
+#include "storage/blob_codec.h"
 #include "storage/event_repository.h"
 #include "storage/furniture_instance_repository.h"
 #include "storage/instance_classification_repository.h"
 #include "storage/job_documents.h"
 #include "storage/job_repository.h"
 #include "storage/repositories.h"
+#include "storage/shape_documents.h"
 #include "storage/shape_repository.h"
 #include "storage/store.h"
 #include "tests/support/pg_scratch.h"
@@ -128,8 +130,18 @@ TEST_P(RepositoryRoundTripTest, ShapeModelsRoundTripReplaceListAndDelete) {
   r.name = "chairs";
   r.created_ns = 10;
   r.model = "ISM\0\x01\xff model bytes"s;  // binary, with NUL and high bytes
-  r.request_json = R"({"classes":["chair"]})";
-  r.report_json = R"({"accuracy":0.9})";
+  ShapeModelOptionsRecord options;
+  options.name = "chairs";
+  options.params.codebook_size = 60;
+  options.params.seed = 7;
+  options.mesh_views = 12;
+  options.parts = {{"chair.obj", "chair", true, 812}, {"scan.pcd", "chair", false, 4000}};
+  r.options.encoded = EncodeShapeModelOptions(options);
+  ShapeModelReportRecord report;
+  report.categories = {{"chair", 13, 480}};
+  report.samples = 13;
+  report.train_seconds = 1.5;
+  r.report.encoded = EncodeShapeModelReport(report);
   ShapeModelRecord tables = r;
   tables.name = "tables";
   store_->Write([&](Connection& c) {
@@ -140,8 +152,16 @@ TEST_P(RepositoryRoundTripTest, ShapeModelsRoundTripReplaceListAndDelete) {
   ASSERT_TRUE(got.has_value());
   EXPECT_EQ(got->model, r.model);
   EXPECT_EQ(got->created_ns, 10);
-  EXPECT_EQ(got->request_json, r.request_json);
-  EXPECT_EQ(got->report_json, r.report_json);
+  EXPECT_EQ(got->options.encoded, r.options.encoded);
+  EXPECT_EQ(got->report.encoded, r.report.encoded);
+  EXPECT_TRUE(got->options.legacy_json.empty());
+  const ShapeModelOptionsRecord options_back = DecodeShapeModelOptions(got->options.encoded, "options");
+  EXPECT_EQ(options_back.params.codebook_size, 60);
+  EXPECT_EQ(options_back.params.seed, 7u);
+  ASSERT_EQ(options_back.parts.size(), 2u);
+  EXPECT_TRUE(options_back.parts[0].mesh);
+  EXPECT_EQ(options_back.parts[1].count, 4000);
+  EXPECT_EQ(DecodeShapeModelReport(got->report.encoded, "report").categories.at(0).keypoints, 480);
   EXPECT_TRUE(store_->Read([](Connection& c) { return GetShapeModel(c, "chairs", false); })->model.empty());
   const auto listed = store_->Read([](Connection& c) { return ListShapeModels(c); });
   ASSERT_EQ(listed.size(), 2u);
@@ -156,6 +176,18 @@ TEST_P(RepositoryRoundTripTest, ShapeModelsRoundTripReplaceListAndDelete) {
   EXPECT_TRUE(store_->Write([](Connection& c) { return DeleteShapeModel(c, "chairs"); }));
   EXPECT_FALSE(store_->Write([](Connection& c) { return DeleteShapeModel(c, "chairs"); }));
   EXPECT_FALSE(store_->Read([](Connection& c) { return GetShapeModel(c, "chairs", true); }).has_value());
+  // A row written before migration 0027 (JSON text, no documents) reads as its text, for the API to show as it was.
+  store_->Write([](Connection& c) {
+    Statement s(c, "INSERT INTO shape_models (name, created_ns, model, request_json, report_json) VALUES ('old', 1, ?, ?, ?)");
+    s.BindBlob(1, EncodeBlob(BlobElement::kU8, {3}, "ISM")).Bind(2, R"({"name":"old"})").Bind(3, R"({"samples":4})").Run();
+  });
+  const auto old = store_->Read([](Connection& c) { return GetShapeModel(c, "old", true); });
+  ASSERT_TRUE(old.has_value());
+  EXPECT_EQ(old->model, "ISM");
+  EXPECT_TRUE(old->options.encoded.empty());
+  EXPECT_EQ(old->options.legacy_json, R"({"name":"old"})");
+  EXPECT_EQ(old->report.legacy_json, R"({"samples":4})");
+  EXPECT_EQ(store_->Read([](Connection& c) { return ListShapeModels(c); }).at(0).report.legacy_json, R"({"samples":4})");
 }
 
 TEST_P(RepositoryRoundTripTest, InstanceClassificationsAreOnePerInstanceOfItsMap) {
@@ -165,24 +197,26 @@ TEST_P(RepositoryRoundTripTest, InstanceClassificationsAreOnePerInstanceOfItsMap
   r.map_id = "home";
   r.classifier = "kitchen";
   r.label = "cup";
-  r.distribution_json = R"({"cup":0.7,"mug":0.3})";
+  r.distribution = {{"cup", 0.7}, {"mug", 0.3}};
   r.stamp_ns = 10;
   store_->Write([&](Connection& c) { UpsertInstanceClassification(c, r); });
   const auto got = store_->Read([&](Connection& c) { return FindInstanceClassification(c, "home", cup); });
   ASSERT_TRUE(got.has_value());
   EXPECT_EQ(got->classifier, "kitchen");
   EXPECT_EQ(got->label, "cup");
-  EXPECT_EQ(got->distribution_json, r.distribution_json);
+  EXPECT_EQ(got->distribution, r.distribution);
   EXPECT_EQ(got->stamp_ns, 10);
   EXPECT_FALSE(got->segment_id.has_value());
   EXPECT_FALSE(got->keyframe_id.has_value());
   EXPECT_FALSE(store_->Read([&](Connection& c) { return FindInstanceClassification(c, "other", cup); }).has_value());
   EXPECT_FALSE(store_->Read([&](Connection& c) { return FindInstanceClassification(c, "home", cup + 1); }).has_value());
   r.label = "mug";
-  r.distribution_json = R"({"cup":0.2,"mug":0.8})";
+  r.distribution = {{"mug", 0.8}, {"spoon", 0.2}};  // a class gone, one new: the rows are replaced
   r.stamp_ns = 20;
   store_->Write([&](Connection& c) { UpsertInstanceClassification(c, r); });
-  EXPECT_EQ(store_->Read([&](Connection& c) { return FindInstanceClassification(c, "home", cup); })->label, "mug");
+  const auto replaced = store_->Read([&](Connection& c) { return FindInstanceClassification(c, "home", cup); });
+  EXPECT_EQ(replaced->label, "mug");
+  EXPECT_EQ(replaced->distribution, r.distribution);
   const auto rows = store_->Read([](Connection& c) {
     Statement s(c, "SELECT COUNT(*) FROM instance_classifications");
     s.Step();
