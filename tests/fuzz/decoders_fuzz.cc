@@ -23,6 +23,8 @@
 #include "storage/job_documents.h"
 #include "storage/feature_documents.h"
 #include "storage/segmentation_documents.h"
+#include "storage/classifier_documents.h"
+#include "storage/shape_documents.h"
 #include "tests/fuzz/stored_codecs.h"
 
 namespace {
@@ -33,7 +35,7 @@ using namespace anchordb;
 void DecodeDocument(std::string_view in) {
   if (in.empty()) return;
   const std::string_view doc = in.substr(1);
-  switch (static_cast<std::uint8_t>(in[0]) % 8) {
+  switch (static_cast<std::uint8_t>(in[0]) % 16) {
     case 0: (void)storage::DecodeForgetRequest(doc, "fuzz"); break;
     case 1: (void)storage::DecodeForgetReport(doc, "fuzz"); break;
     case 2: (void)storage::DecodeBackupRequest(doc, "fuzz"); break;
@@ -42,6 +44,14 @@ void DecodeDocument(std::string_view in) {
     case 5: (void)storage::DecodeCodebookResult(doc, "fuzz"); break;
     case 6: (void)storage::DecodeSegmentationRequest(doc, "fuzz"); break;
     case 7: (void)storage::DecodeSegmentationResult(doc, "fuzz"); break;
+    case 8: (void)storage::DecodeClassifierOptions(doc, "fuzz"); break;
+    case 9: (void)storage::DecodeClassifierReport(doc, "fuzz"); break;
+    case 10: (void)storage::DecodeClassifierTrainingRequest(doc, "fuzz"); break;
+    case 11: (void)storage::DecodeClassifierTrainingResult(doc, "fuzz"); break;
+    case 12: (void)storage::DecodeShapeModelOptions(doc, "fuzz"); break;
+    case 13: (void)storage::DecodeShapeModelReport(doc, "fuzz"); break;
+    case 14: (void)storage::DecodeShapeTrainingRequest(doc, "fuzz"); break;
+    case 15: (void)storage::DecodeShapeTrainingResult(doc, "fuzz"); break;
   }
 }
 

@@ -21,6 +21,8 @@
 #include "storage/feature_documents.h"
 #include "storage/job_documents.h"
 #include "storage/segmentation_documents.h"
+#include "storage/classifier_documents.h"
+#include "storage/shape_documents.h"
 #include "tests/fuzz/stored_codecs.h"
 
 using namespace anchordb;
@@ -197,6 +199,30 @@ int main(int argc, char** argv) {
   put(13, "document-codebook-result", document(5, storage::EncodeCodebookResult({"fpfh", 64, 33, 500, 500})));
   put(13, "document-segmentation-request", document(6, storage::EncodeSegmentationRequest(segment)));
   put(13, "document-segmentation-result", document(7, storage::EncodeSegmentationResult(segmented)));
+  storage::ClassifierOptionsRecord options;
+  options.name = "rooms";
+  options.base = {{"svm", 1.0, 0.5, true, 0, 0, {}, 0, 0}, {"mlp", 0, 0, false, 0, 0, {16, 8}, 200, 0}};
+  options.selection = "maximum";
+  storage::ClassifierReportRecord report;
+  report.classes = {"kitchen", "hall"};
+  report.rounds = {{"knn(k=3)", "bow", 0.1, 1.2}};
+  report.cross_validation = storage::ClassifierCrossValidationRecord{};
+  report.cross_validation->confusion = {{3, 1}, {0, 4}};
+  report.cross_validation->kind_share = {{"knn", 1.0}};
+  storage::ShapeModelOptionsRecord shape;
+  shape.name = "chairs";
+  shape.params.codebook_size = 60;
+  shape.parts = {{"chair.obj", "chair", true, 812}, {"scan.pcd", "chair", false, 4000}};
+  storage::ShapeModelReportRecord shape_report;
+  shape_report.categories = {{"chair", 13, 480}};
+  put(13, "document-classifier-options", document(8, storage::EncodeClassifierOptions(options)));
+  put(13, "document-classifier-report", document(9, storage::EncodeClassifierReport(report)));
+  put(13, "document-classifier-request", document(10, storage::EncodeClassifierTrainingRequest({options, 60, {{"hall", 30}}, {{"bow", 64}}, 1})));
+  put(13, "document-classifier-result", document(11, storage::EncodeClassifierTrainingResult({"rooms", 10, 0.5, 0.1})));
+  put(13, "document-shape-options", document(12, storage::EncodeShapeModelOptions(shape)));
+  put(13, "document-shape-report", document(13, storage::EncodeShapeModelReport(shape_report)));
+  put(13, "document-shape-request", document(14, storage::EncodeShapeTrainingRequest({shape, 2})));
+  put(13, "document-shape-result", document(15, storage::EncodeShapeTrainingResult({"chairs", 13, 480, 2.5})));
   std::printf("%d seeds in %s\n", n, dir.c_str());
   return 0;
 }
