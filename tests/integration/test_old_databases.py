@@ -5,8 +5,8 @@ read it (the manifest beside each file, written by tests/data/make_old_database.
 For every file: after the migration PRAGMA integrity_check is ok, foreign_key_check is empty, user_version and
 schema_migrations reached the newest migration of migrations/; each GET of the manifest answers what the old server
 answered (a JSON answer may gain fields, never lose or change one; binary answers have the same bytes, PNGs the same
-pixels); the 0005 instance label index holds the instances written before it existed (instances?label= and
-where?label= find them, the index table equals instances.labels); the hashed API tokens still authenticate with
+pixels); the instances' labels written before the 0005 label index existed are found by label (instances?label= and
+where?label=; since 0026 instance_labels holds the labels themselves); the hashed API tokens still authenticate with
 their roles; no AUTOINCREMENT sequence went backwards; and the migrated memory takes new writes (a frame into the
 scene left observing, a new labelled instance, a new keyframe id beyond every id handed out before). Files of
 schema 0007 and later also hold what those schemas added (tests/data/old_database_later.py): the audit log reads back
