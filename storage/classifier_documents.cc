@@ -10,7 +10,9 @@ constexpr std::uint16_t kClassifierDocumentVersion = 1;
 
 void PutBaseSetting(DocumentWriter& w, const ClassifierBaseSettingRecord& s) {
   w.Text(s.kind).Real(s.svm_c).Real(s.svm_gamma).Bool(s.svm_gamma_per_dim).Int(s.tree_max_depth).Int(s.tree_min_samples)
-      .Ints(s.mlp_hidden).Int(s.mlp_iterations).Int(s.knn_k);
+      .Count(s.mlp_hidden.size());
+  for (const int neurons : s.mlp_hidden) w.Int(neurons);
+  w.Int(s.mlp_iterations).Int(s.knn_k);
 }
 
 ClassifierBaseSettingRecord TakeBaseSetting(DocumentReader& d) {
@@ -19,11 +21,11 @@ ClassifierBaseSettingRecord TakeBaseSetting(DocumentReader& d) {
   s.svm_c = d.Real();
   s.svm_gamma = d.Real();
   s.svm_gamma_per_dim = d.Bool();
-  s.tree_max_depth = d.Int();
-  s.tree_min_samples = d.Int();
-  s.mlp_hidden = d.Ints();
-  s.mlp_iterations = d.Int();
-  s.knn_k = d.Int();
+  s.tree_max_depth = d.SmallInt();
+  s.tree_min_samples = d.SmallInt();
+  for (std::size_t n = d.Count(); n > 0; --n) s.mlp_hidden.push_back(d.SmallInt());
+  s.mlp_iterations = d.SmallInt();
+  s.knn_k = d.SmallInt();
   return s;
 }
 
@@ -38,10 +40,10 @@ ClassifierOptionsRecord TakeClassifierOptions(DocumentReader& d) {
   ClassifierOptionsRecord o;
   o.name = d.Text();
   for (std::size_t n = d.Count(); n > 0; --n) o.base.push_back(TakeBaseSetting(d));
-  o.rounds = d.Int();
+  o.rounds = d.SmallInt();
   o.selection = d.Text();
   o.sample_factor = d.Real();
-  o.folds = d.Int();
+  o.folds = d.SmallInt();
   o.seed = static_cast<std::uint64_t>(d.Int());
   o.update = d.Text();
   o.error_on = d.Text();

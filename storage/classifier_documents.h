@@ -16,20 +16,20 @@ struct ClassifierBaseSettingRecord {
   double svm_c = 0.0;
   double svm_gamma = 0.0;
   bool svm_gamma_per_dim = false;
-  std::int64_t tree_max_depth = 0;
-  std::int64_t tree_min_samples = 0;
-  std::vector<std::int64_t> mlp_hidden;
-  std::int64_t mlp_iterations = 0;
-  std::int64_t knn_k = 0;
+  int tree_max_depth = 0;
+  int tree_min_samples = 0;
+  std::vector<int> mlp_hidden;
+  int mlp_iterations = 0;
+  int knn_k = 0;
 };
 
 struct ClassifierOptionsRecord {
   std::string name;
   std::vector<ClassifierBaseSettingRecord> base;  // empty: the default base set
-  std::int64_t rounds = 0;
+  int rounds = 0;
   std::string selection;
   double sample_factor = 0.0;
-  std::int64_t folds = 0;
+  int folds = 0;
   std::uint64_t seed = 0;
   std::string update;
   std::string error_on;

@@ -58,4 +58,35 @@ std::map<std::string, double> AverageCategoryShares(const std::map<std::string, 
   return out;
 }
 
+SegmentMatchResult MatchSegment(const Footprint& segment, const std::vector<Footprint>& known,
+                                const std::vector<bool>& perceived, double match_iou) {
+  SegmentMatchResult out;
+  bool found = false;
+  for (std::size_t i = 0; i < known.size(); ++i) {
+    const double iou = FootprintIoU(segment, known[i]);
+    if (iou > out.iou) out.iou = iou, out.index = i, found = true;
+  }
+  if (!found || out.iou < match_iou) return SegmentMatchResult{SegmentMatch::kNewPiece, 0, out.iou};
+  const bool is_perceived = out.index < perceived.size() && perceived[out.index];
+  out.match = is_perceived ? SegmentMatch::kUpdatePerceivedPiece : SegmentMatch::kKeepOperatorPiece;
+  return out;
+}
+
+SegmentationParams ParamsForVoxelCentres(SegmentationParams p, double resolution_m) {
+  if (!(resolution_m > p.voxel_m)) return p;
+  const double area = (p.voxel_m / resolution_m) * (p.voxel_m / resolution_m);
+  const auto scaled = [area](std::size_t n, std::size_t least) {
+    return std::max<std::size_t>(least, static_cast<std::size_t>(std::lround(static_cast<double>(n) * area)));
+  };
+  p.min_plane_points = scaled(p.min_plane_points, 3);
+  p.min_cluster_points = scaled(p.min_cluster_points, 1);
+  p.voxel_m = std::min(1.0, 0.5 * resolution_m);  // half a voxel: each centre in a leaf of its own
+  const double link = std::min(0.5, 1.5 * resolution_m);  // across one voxel diagonal in a plane
+  p.cluster_tolerance_m = std::max(p.cluster_tolerance_m, link);
+  p.core_radius_m = std::max(p.core_radius_m, link);
+  p.outlier_radius_m = std::max(p.outlier_radius_m, link);
+  p.plane_distance_m = std::max(p.plane_distance_m, std::min(0.5, 0.75 * resolution_m));
+  return p;
+}
+
 }  // namespace anchordb::engine::segmentation

@@ -1,7 +1,8 @@
 #pragma once
 // The decisions the furniture segmentation service takes about a segment once it is found (thesis 5.3.1; issue 35:
 // rules live in engine/): which keyframes are its evidence, how the shape model's verification refines the
-// geometric prior, and how a re-observed piece's category shares are averaged over its observations.
+// geometric prior, how a re-observed piece's category shares are averaged over its observations, which piece of the
+// map a segment is, and the segmentation parameters for a cloud of OctoMap voxel centres.
 #include <cstddef>
 #include <cstdint>
 #include <map>
@@ -11,6 +12,8 @@
 
 #include <Eigen/Geometry>
 
+#include "engine/segmentation/footprint.h"
+#include "engine/segmentation/furniture_segmentation.h"
 #include "schema/types.h"
 
 namespace anchordb::engine::segmentation {
@@ -48,5 +51,24 @@ std::vector<double> PriorTimesVerification(std::vector<double> prior, const std:
 // `category_ids`): the running mean per category (a category the old shares lack counts as 0 there).
 std::map<std::string, double> AverageCategoryShares(const std::map<std::string, double>& old_shares, double observations,
                                                     const std::vector<std::string>& category_ids, const std::vector<double>& p);
+
+// Which piece of the map's furniture a segment is: the known footprint it overlaps most (intersection over union);
+// at `match_iou` or more an operator's piece is kept as the operator entered it (kKeepOperatorPiece) and a perceived
+// one takes the new observation (kUpdatePerceivedPiece), below it the segment is a new piece (kNewPiece, no index).
+// Ties go to the first footprint.
+enum class SegmentMatch { kNewPiece, kKeepOperatorPiece, kUpdatePerceivedPiece };
+struct SegmentMatchResult {
+  SegmentMatch match = SegmentMatch::kNewPiece;
+  std::size_t index = 0;  // into `known`, unless kNewPiece
+  double iou = 0.0;       // with the best-overlapping footprint (0 when none overlaps)
+};
+SegmentMatchResult MatchSegment(const Footprint& segment, const std::vector<Footprint>& known,
+                                const std::vector<bool>& perceived, double match_iou);
+
+// The parameters for a cloud of voxel centres `resolution_m` apart (the OctoMap source), when that is coarser than
+// `p.voxel_m`: thinning keeps every centre (a leaf of half a voxel), the point counts meant for the default voxel
+// scale with the area per point, and the neighbourhood radii reach across one voxel diagonal in a plane. Unchanged
+// for a resolution at or below p.voxel_m.
+SegmentationParams ParamsForVoxelCentres(SegmentationParams p, double resolution_m);
 
 }  // namespace anchordb::engine::segmentation

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <limits>
 #include <set>
 
 #include "engine/classification/cross_validation.h"
@@ -24,17 +23,10 @@ storage::ClassifierBaseSettingRecord SettingRecord(const BaseSetting& s) {
   r.svm_gamma_per_dim = s.svm_gamma_per_dim;
   r.tree_max_depth = s.tree_max_depth;
   r.tree_min_samples = s.tree_min_samples;
-  r.mlp_hidden.assign(s.mlp_hidden.begin(), s.mlp_hidden.end());
+  r.mlp_hidden = s.mlp_hidden;
   r.mlp_iterations = s.mlp_iterations;
   r.knn_k = s.knn_k;
   return r;
-}
-
-int Narrow(std::int64_t v, const char* what) {
-  if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max()) {
-    throw Error(ErrorCode::kInternal, std::string("a stored classifier option is out of range: ") + what);
-  }
-  return static_cast<int>(v);
 }
 
 BaseSetting SettingOf(const storage::ClassifierBaseSettingRecord& r) {
@@ -43,12 +35,11 @@ BaseSetting SettingOf(const storage::ClassifierBaseSettingRecord& r) {
   s.svm_c = r.svm_c;
   s.svm_gamma = r.svm_gamma;
   s.svm_gamma_per_dim = r.svm_gamma_per_dim;
-  s.tree_max_depth = Narrow(r.tree_max_depth, "max_depth");
-  s.tree_min_samples = Narrow(r.tree_min_samples, "min_samples");
-  s.mlp_hidden.clear();
-  for (const std::int64_t n : r.mlp_hidden) s.mlp_hidden.push_back(Narrow(n, "hidden"));
-  s.mlp_iterations = Narrow(r.mlp_iterations, "iterations");
-  s.knn_k = Narrow(r.knn_k, "k");
+  s.tree_max_depth = r.tree_max_depth;
+  s.tree_min_samples = r.tree_min_samples;
+  s.mlp_hidden = r.mlp_hidden;
+  s.mlp_iterations = r.mlp_iterations;
+  s.knn_k = r.knn_k;
   return s;
 }
 
@@ -90,10 +81,10 @@ TrainClassifierRequest DecodeOptions(const storage::ClassifierOptionsRecord& o) 
   TrainClassifierRequest r;
   r.name = o.name;
   for (const auto& s : o.base) r.base.push_back(SettingOf(s));
-  r.rounds = Narrow(o.rounds, "rounds");
+  r.rounds = o.rounds;
   r.selection = engine::ParseSelection(o.selection);
   r.sample_factor = o.sample_factor;
-  r.folds = Narrow(o.folds, "folds");
+  r.folds = o.folds;
   r.seed = o.seed;
   r.update = engine::ParseWeightUpdate(o.update);
   r.error_on = engine::ParseErrorMeasure(o.error_on);

@@ -154,25 +154,6 @@ SegmentationOutcome FurnitureSegmentationService::Run(const std::string& map, co
 
 namespace {
 
-// The segmentation parameters for a cloud of voxel centres `resolution_m` apart (the octomap source): thinning
-// keeps every centre, and the counts meant for the default voxel scale with the area per point.
-seg::SegmentationParams AtResolution(seg::SegmentationParams p, double resolution_m) {
-  if (!(resolution_m > p.voxel_m)) return p;
-  const double area = (p.voxel_m / resolution_m) * (p.voxel_m / resolution_m);
-  const auto scaled = [area](std::size_t n, std::size_t least) {
-    return std::max<std::size_t>(least, static_cast<std::size_t>(std::lround(static_cast<double>(n) * area)));
-  };
-  p.min_plane_points = scaled(p.min_plane_points, 3);
-  p.min_cluster_points = scaled(p.min_cluster_points, 1);
-  p.voxel_m = std::min(1.0, 0.5 * resolution_m);  // half a voxel: each centre in a leaf of its own
-  const double link = std::min(0.5, 1.5 * resolution_m);  // across one voxel diagonal in a plane
-  p.cluster_tolerance_m = std::max(p.cluster_tolerance_m, link);
-  p.core_radius_m = std::max(p.core_radius_m, link);
-  p.outlier_radius_m = std::max(p.outlier_radius_m, link);
-  p.plane_distance_m = std::max(p.plane_distance_m, std::min(0.5, 0.75 * resolution_m));
-  return p;
-}
-
 // The shape model a segmentation classifies with: the one named, else the newest stored when asked for, else none
 // (by shape alone; also when the newest was deleted meanwhile). Sets `name` to the model's name or nothing.
 std::shared_ptr<const engine::ShapeModel> ShapeModelOf(const SegmentationLinks& links, const SegmentationRequest& r,
@@ -233,7 +214,7 @@ seg::SegmentationParams TakeSourceCloud(const SegmentationLinks& links, const st
     if (tree->points_m.empty()) throw Error(ErrorCode::kUnprocessable, "the OctoMap of map '" + map + "' has no occupied voxel", "octomap");
     room.points_m = std::move(tree->points_m);
     out.octomap_truncated = tree->truncated;
-    return AtResolution(r.params, tree->resolution_m);
+    return seg::ParamsForVoxelCentres(r.params, tree->resolution_m);
   }
   if (r.source == SegmentationSource::kCloud) {
     out.source = "cloud";
@@ -279,25 +260,23 @@ struct InstanceWrite {
 SegmentOutcome WriteSegment(storage::Connection& c, const InstanceWrite& w, const seg::FurnitureSegment& s,
                             const SegmentClasses& classes, std::vector<storage::InstanceRecord>& known,
                             std::set<std::int64_t>& perceived) {
-  int best = -1;
-  double best_iou = 0.0;
-  for (std::size_t i = 0; i < known.size(); ++i) {
-    const double iou = seg::FootprintIoU(s.footprint, FootprintOfInstance(known[i]));
-    if (iou > best_iou) best_iou = iou, best = static_cast<int>(i);
-  }
+  std::vector<seg::Footprint> footprints;
+  std::vector<bool> is_perceived;
+  for (const auto& k : known) footprints.push_back(FootprintOfInstance(k)), is_perceived.push_back(IsPerceived(k, perceived));
+  const seg::SegmentMatchResult match = seg::MatchSegment(s.footprint, footprints, is_perceived, w.r.match_iou);
   SegmentOutcome o;
-  if (best >= 0 && best_iou >= w.r.match_iou && !IsPerceived(known[static_cast<std::size_t>(best)], perceived)) {
+  if (match.match == seg::SegmentMatch::kKeepOperatorPiece) {
     o.action = "kept_operator";
-    o.instance = ViewOf(known[static_cast<std::size_t>(best)], std::nullopt);
+    o.instance = ViewOf(known[match.index], std::nullopt);
     return o;
   }
   storage::InstanceRecord inst;
   storage::FurnitureInstanceRecord fr;
   std::map<std::string, double> labels;
   std::set<std::int64_t> evidence(classes.evidence.begin(), classes.evidence.end());
-  const bool update = best >= 0 && best_iou >= w.r.match_iou;
+  const bool update = match.match == seg::SegmentMatch::kUpdatePerceivedPiece;
   if (update) {
-    inst = known[static_cast<std::size_t>(best)];
+    inst = known[match.index];
     fr = *storage::FindFurnitureInstance(c, w.map, inst.id, false);
     evidence.insert(fr.evidence_keyframes.begin(), fr.evidence_keyframes.end());
     labels = seg::AverageCategoryShares(inst.labels, static_cast<double>(fr.observations), w.category_ids, classes.p);

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <limits>
 #include <set>
 
 #include "engine/cloud/cloud_io.h"
@@ -37,13 +36,6 @@ storage::ShapeModelParamsRecord ParamsRecord(const engine::ShapeModelParams& p) 
   return r;
 }
 
-int Narrow(std::int64_t v, const char* what) {
-  if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max()) {
-    throw Error(ErrorCode::kInternal, std::string("a stored shape-model parameter is out of range: ") + what);
-  }
-  return static_cast<int>(v);
-}
-
 engine::ShapeModelParams ParamsOf(const storage::ShapeModelParamsRecord& r) {
   engine::ShapeModelParams p;
   p.voxel_m = r.voxel_m;
@@ -51,15 +43,15 @@ engine::ShapeModelParams ParamsOf(const storage::ShapeModelParamsRecord& r) {
   p.boundary_angle_rad = r.boundary_angle_rad;
   p.keypoint_spacing_m = r.keypoint_spacing_m;
   p.shot_radius_m = r.shot_radius_m;
-  p.codebook_size = Narrow(r.codebook_size, "codebook_size");
-  p.activated_words = Narrow(r.activated_words, "activated_words");
-  p.azimuth_bins = Narrow(r.azimuth_bins, "azimuth_bins");
-  p.polar_bins = Narrow(r.polar_bins, "polar_bins");
+  p.codebook_size = r.codebook_size;
+  p.activated_words = r.activated_words;
+  p.azimuth_bins = r.azimuth_bins;
+  p.polar_bins = r.polar_bins;
   p.sphere_radius_m = r.sphere_radius_m;
   p.detection_spacing_m = r.detection_spacing_m;
   p.accept_fraction = r.accept_fraction;
   p.merge_distance_m = r.merge_distance_m;
-  p.max_keypoints = Narrow(r.max_keypoints, "max_keypoints");
+  p.max_keypoints = r.max_keypoints;
   p.seed = r.seed;
   p.size_weight = r.size_weight;
   p.size_bandwidth = r.size_bandwidth;

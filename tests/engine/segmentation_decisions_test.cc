@@ -2,6 +2,7 @@
 // keyframes are its evidence, the prior times the shape model's verification, the running mean of category shares.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -93,6 +94,60 @@ TEST(AverageCategorySharesTest, RunningMeanOverObservations) {
   EXPECT_NEAR(later.at("chair"), (0.5 * 3 + 0.2) / 4, 1e-12);
   EXPECT_NEAR(later.at("table"), (0.5 * 3 + 0.8) / 4, 1e-12);
   EXPECT_EQ(later.count("plant"), 0u) << "only the knowledge's categories are kept";
+}
+
+Footprint Box(double x_m, double y_m, double length_m, double width_m) {
+  Footprint f;
+  f.centre_m = Eigen::Vector2d(x_m, y_m);
+  f.extent_m = Eigen::Vector2d(length_m, width_m);
+  f.max_z_m = 0.75;
+  return f;
+}
+
+TEST(MatchSegmentTest, TheBestOverlapDecidesAtTheThreshold) {
+  const Footprint segment = Box(0.0, 0.0, 1.0, 1.0);
+  // Overlaps with the segment: 0.5 x 1 of 1.5 (IoU 1/3), 0.8 x 1 of 1.2 (IoU 2/3), none.
+  const std::vector<Footprint> known = {Box(0.5, 0.0, 1.0, 1.0), Box(0.2, 0.0, 1.0, 1.0), Box(5.0, 5.0, 1.0, 1.0)};
+  const SegmentMatchResult operator_piece = MatchSegment(segment, known, {false, false, true}, 0.5);
+  EXPECT_EQ(operator_piece.match, SegmentMatch::kKeepOperatorPiece);
+  EXPECT_EQ(operator_piece.index, 1u);
+  EXPECT_NEAR(operator_piece.iou, 2.0 / 3.0, 1e-6);
+  const SegmentMatchResult perceived = MatchSegment(segment, known, {false, true, false}, 0.5);
+  EXPECT_EQ(perceived.match, SegmentMatch::kUpdatePerceivedPiece);
+  EXPECT_EQ(perceived.index, 1u);
+  // The best overlap below the threshold: a new piece, whatever the others are.
+  const SegmentMatchResult below = MatchSegment(segment, known, {true, true, true}, 0.7);
+  EXPECT_EQ(below.match, SegmentMatch::kNewPiece);
+  EXPECT_NEAR(below.iou, 2.0 / 3.0, 1e-6);
+  // At the threshold it matches; with nothing known, or nothing overlapping, it is new.
+  EXPECT_EQ(MatchSegment(segment, known, {false, false, false}, operator_piece.iou).match, SegmentMatch::kKeepOperatorPiece);
+  EXPECT_EQ(MatchSegment(segment, {}, {}, 0.1).match, SegmentMatch::kNewPiece);
+  EXPECT_EQ(MatchSegment(segment, {known[2]}, {true}, 0.0).match, SegmentMatch::kNewPiece);
+}
+
+TEST(ParamsForVoxelCentresTest, CoarseVoxelsScaleCountsAndReachAcrossAVoxel) {
+  const SegmentationParams p;
+  // At or below the thinning voxel nothing changes.
+  const SegmentationParams fine = ParamsForVoxelCentres(p, p.voxel_m);
+  EXPECT_EQ(fine.voxel_m, p.voxel_m);
+  EXPECT_EQ(fine.min_plane_points, p.min_plane_points);
+  // 5 cm voxels: every centre its own leaf (half a voxel), counts scaled by the area per point (0.02 / 0.05)^2, and
+  // the radii reach 1.5 voxels (7.5 cm) where they were shorter.
+  const SegmentationParams coarse = ParamsForVoxelCentres(p, 0.05);
+  EXPECT_DOUBLE_EQ(coarse.voxel_m, 0.025);
+  EXPECT_EQ(coarse.min_plane_points, static_cast<std::size_t>(std::lround(p.min_plane_points * 0.16)));
+  EXPECT_EQ(coarse.min_cluster_points, static_cast<std::size_t>(std::lround(p.min_cluster_points * 0.16)));
+  EXPECT_NEAR(coarse.cluster_tolerance_m, 0.075, 1e-12);
+  EXPECT_NEAR(coarse.core_radius_m, 0.075, 1e-12);
+  EXPECT_NEAR(coarse.outlier_radius_m, 0.075, 1e-12);
+  EXPECT_NEAR(coarse.plane_distance_m, std::max(p.plane_distance_m, 0.0375), 1e-12);
+  // Very coarse: the counts keep a floor (3 plane points, 1 cluster point) and the reach is capped at 0.5 m.
+  const SegmentationParams huge = ParamsForVoxelCentres(p, 4.0);
+  EXPECT_EQ(huge.min_plane_points, 3u);
+  EXPECT_EQ(huge.min_cluster_points, 1u);
+  EXPECT_DOUBLE_EQ(huge.voxel_m, 1.0);
+  EXPECT_DOUBLE_EQ(huge.cluster_tolerance_m, 0.5);
+  EXPECT_DOUBLE_EQ(huge.plane_distance_m, 0.5);
 }
 
 }  // namespace

@@ -151,7 +151,7 @@ TEST_P(FeatureRepositoryTest, CodebooksAndClassifiersSurviveAReopen) {
   const ClassifierOptionsRecord options = DecodeClassifierOptions(r->options.encoded, "options");
   ASSERT_EQ(options.base.size(), 2u);
   EXPECT_TRUE(options.base[0].svm_gamma_per_dim);
-  EXPECT_EQ(options.base[1].mlp_hidden, (std::vector<std::int64_t>{16, 8}));
+  EXPECT_EQ(options.base[1].mlp_hidden, (std::vector<int>{16, 8}));
   EXPECT_EQ(options.selection, "maximum");
   const auto listed = store_->Read([](Connection& c) { return ListClassifiers(c); });
   ASSERT_EQ(listed.size(), 1u);
