@@ -141,7 +141,9 @@ std::vector<std::string> TableInfo::OrderColumns() const {
   return names;
 }
 
-bool IsDerivedTable(const std::string& name) { return name == "schema_migrations"; }
+bool IsDerivedTable(const std::string& name) {
+  return name == "schema_migrations" || name == "map_instance_versions";
+}
 
 std::vector<TableInfo> StoredTables(Connection& connection) {
   return InDependencyOrder(connection.engine() == Engine::kPostgresql ? PostgresTables(connection)

@@ -28,8 +28,9 @@ struct TableInfo {
   std::vector<std::string> OrderColumns() const;
 };
 
-// Tables kept from others, never copied: SQLite's R*-trees and their shadow tables (the index keeps them) and
-// schema_migrations (each database's own migrations write it).
+// Tables kept from others, never copied: SQLite's R*-trees and their shadow tables (the index keeps them), the
+// per-map change counts of map_instance_versions (triggers count the copied rows afresh) and schema_migrations (each
+// database's own migrations write it).
 bool IsDerivedTable(const std::string& name);
 
 // The stored (not derived) tables of the database, every table after the tables it references.

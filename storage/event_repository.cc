@@ -219,6 +219,12 @@ std::vector<InstanceRecord> ListInstances(Connection& c, const std::string& map_
   return out;
 }
 
+std::int64_t InstanceVersion(Connection& c, const std::string& map_id) {
+  Statement s(c, "SELECT version FROM map_instance_versions WHERE map_id = ?");
+  s.Bind(1, map_id);
+  return s.Step() ? s.Int(0) : 0;
+}
+
 void AppendHistory(Connection& c, const HistoryRecord& h) {
   Statement s(c, "INSERT INTO instance_history (instance_id, seq, stamp_ns, present, x_m, y_m, z_m, event_id) "
                  "VALUES (?1, (SELECT COALESCE(MAX(seq), 0) + 1 FROM instance_history WHERE instance_id = ?1), ?2, ?3, ?4, "

@@ -63,6 +63,10 @@ struct InstanceFilter {
 std::vector<InstanceRecord> ListInstances(Connection& c, const std::string& map_id, const InstanceFilter& f,
                                           bool with_sample);
 
+// The map's count of changes to its instances, their labels and history rows (migration 0028; 0 before the first):
+// equal counts at two times mean none of those rows changed in between.
+std::int64_t InstanceVersion(Connection& c, const std::string& map_id);
+
 struct HistoryRecord {
   std::int64_t instance_id = 0;
   std::int64_t seq = 0;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <iterator>
+#include <map>
 
 #include "schema/error.h"
 #include "services/events/event_records_internal.h"
@@ -80,6 +81,7 @@ storage::EventRecord EventRecordOf(const std::string& map, const engine::NewEven
 
 AnalysisInputs ReadAnalysisInputs(storage::Connection& c, const KeyframeNotice& n) {
   AnalysisInputs in;
+  in.instance_version = storage::InstanceVersion(c, n.map);  // the same snapshot as the rows below
   const bool begin = n.kind == "begin";
   if (begin) {
     for (std::int64_t scene : n.merged_scenes) {
@@ -107,10 +109,24 @@ AnalysisInputs ReadAnalysisInputs(storage::Connection& c, const KeyframeNotice& 
   return in;
 }
 
-bool SameInputs(const AnalysisInputs& a, const AnalysisInputs& b) {
-  return SameRecords(a.records, b.records) && SameList(a.last_history, b.last_history) &&
-         a.last_keyframe == b.last_keyframe && a.before_keyframes == b.before_keyframes &&
-         a.opening_keyframe_id == b.opening_keyframe_id;
+bool InputsUnchanged(storage::Connection& c, const KeyframeNotice& n, const AnalysisInputs& in) {
+  if (storage::InstanceVersion(c, n.map) != in.instance_version) return false;
+  if (n.kind != "begin") return storage::PreviousKeyframeId(c, n.scene_id, n.keyframe_id) == in.opening_keyframe_id;
+  std::vector<std::int64_t> before;
+  for (std::int64_t scene : n.merged_scenes) {
+    if (auto k = storage::LatestKeyframeId(c, scene)) before.push_back(*k);
+  }
+  if (before != in.before_keyframes) return false;
+  // The latest keyframe of each present object's last scene, once per scene.
+  std::map<std::int64_t, std::optional<std::int64_t>> latest;
+  for (std::size_t i = 0; i < in.records.size(); ++i) {
+    const storage::InstanceRecord& r = in.records[i];
+    if (r.status != "present" || !r.last_scene_id) continue;
+    auto [at, added] = latest.try_emplace(*r.last_scene_id);
+    if (added) at->second = storage::LatestKeyframeId(c, *r.last_scene_id);
+    if (at->second != in.last_keyframe[i]) return false;
+  }
+  return true;
 }
 
 std::vector<engine::KnownInstance> KnownInstances(const AnalysisInputs& in) {

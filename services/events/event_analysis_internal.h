@@ -24,9 +24,13 @@ struct AnalysisInputs {
   std::vector<std::optional<std::int64_t>> last_keyframe;          // per record: latest keyframe of its last scene (begin)
   std::vector<std::int64_t> before_keyframes;                     // begin: latest keyframe of each merged model
   std::optional<std::int64_t> opening_keyframe_id;                // later keyframes: the one that opened the layer
+  std::int64_t instance_version = 0;                              // the map's count when these were read
 };
 AnalysisInputs ReadAnalysisInputs(storage::Connection& c, const KeyframeNotice& n);
-bool SameInputs(const AnalysisInputs& a, const AnalysisInputs& b);
+// Whether `in`, read earlier, still holds (in the write transaction): the map's instance count is the same (no
+// instance, label or history row changed) and so are the keyframes it read -- a few ids, not every object with its
+// sample, which is what the count spares (issue 33).
+bool InputsUnchanged(storage::Connection& c, const KeyframeNotice& n, const AnalysisInputs& in);
 std::vector<engine::KnownInstance> KnownInstances(const AnalysisInputs& in);
 
 // What re-analysing keyframe `keyframe` depends on: every object instance (deleted too) with its history row at the

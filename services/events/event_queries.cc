@@ -60,8 +60,8 @@ EventView EventService::GetEvent(const std::string& map, std::int64_t id) {
 LabelResult EventService::LabelInstance(const std::string& map, std::int64_t id, const LabelRequest& request) {
   const std::string label = engine::NormaliseLabel(request.label, settings_.max_label_length, "label");
   const bool from_operator = request.source == LabelSource::kOperator;
-  // No analysis mutex: the edit is one write transaction, and an analysis running meanwhile re-reads the instances in
-  // its write and starts again when they changed, so a label never waits for a keyframe's analysis (seconds).
+  // No analysis mutex: the edit is one write transaction, and an analysis running meanwhile sees the map's instance
+  // count changed in its write and starts again, so a label never waits for a keyframe's analysis (seconds).
   return store_.Write([&](storage::Connection& c) {
     storage::InstanceRecord r = RequireInstance(c, map, id);
     if (r.status == "deleted") throw Error(ErrorCode::kConflict, "instance " + std::to_string(id) + " was deleted by an operator", "instance");

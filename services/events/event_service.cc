@@ -145,7 +145,7 @@ std::optional<KeyframeAnalysis> EventService::AnalyseKeyframe(const KeyframeNoti
     // nullopt: another writer changed the instances (an empty change set does not depend on them).
     bool claimed = true;
     auto written = store_.Write([&](storage::Connection& c) -> std::optional<std::vector<EventView>> {
-      if (!Empty(changes) && !SameInputs(ReadAnalysisInputs(c, n), s.in)) return std::nullopt;
+      if (!Empty(changes) && !InputsUnchanged(c, n, s.in)) return std::nullopt;
       if (claim && !(claimed = claim(c))) return std::vector<EventView>{};
       return WriteChangeSet(c, n.map, changes, ById(s.in.records), clock_.NowNs());
     });

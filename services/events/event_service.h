@@ -5,8 +5,9 @@
 // begin keyframe of a later visit finds what was added and removed meanwhile, every later keyframe what was added and
 // removed in the action layer it closes, and an observed addition may continue a labelled removal (the lost-key
 // rule). The heavy part (clustering, visibility) runs on a snapshot outside any write transaction; the short write
-// that follows re-reads what the analysis read and, if another writer changed it meanwhile, the analysis is computed
-// again (a bounded number of times, then inside the write). Analyses of one map run one at a time; different maps
+// that follows checks that what the analysis read still holds (the map's instance change count of migration 0028 and
+// the few keyframe ids it read) and, if another writer changed it meanwhile, the analysis is computed again (a
+// bounded number of times, then inside the write). Analyses of one map run one at a time; different maps
 // concurrently. Operator edits (relabel, delete) are locked against automatic processing.
 //
 // Errors (anchordb::Error): kNotFound for a missing map, event, instance, keyframe or scene (field names it);

@@ -130,5 +130,29 @@ TEST_F(EventServiceTest, AnAnalysisWhoseInstancesChangedMeanwhileIsComputedAgain
   EXPECT_EQ(events_->ListInstances("a", InstanceQuery{}).instances.size(), 2u);
 }
 
+TEST_F(EventServiceTest, AnotherMapsInstanceChangingMeanwhileDoesNotComputeAnAnalysisAgain) {
+  CreateInstanceRequest cup;
+  cup.kind = InstanceKind::kObject;
+  cup.label = "cup";
+  cup.position_m = {5.0, 5.0, 0.0};
+  const std::int64_t other_cup = events_->CreateInstance("b", cup).id;
+  int analyses = 0;
+  events_->SetAnalysisHookForTesting([&](const std::string& map) {
+    if (map != "a" || ++analyses != 2) return;
+    events_->PinInstance("b", other_cup, true);  // a write to map b between map a's analysis and its write
+  });
+  const std::int64_t a = OpenScene("a");
+  AddFrame("a", a, Depth(false), 1'000'000'000'100LL);
+  EXPECT_EQ(queue_->Drain(), 1);
+  AddFrame("a", a, Depth(true), 1'000'000'000'200LL);
+  const KeyframeResult keyframe = scenes_->Keyframe("a", a, true);
+  EXPECT_EQ(analyses, 2) << "map a's count did not change: its analysis is written as computed";
+  ASSERT_TRUE(keyframe.keyframe.analysis.has_value());
+  ASSERT_EQ(keyframe.keyframe.analysis->state, AnalysisState::kDone);
+  ASSERT_TRUE(keyframe.keyframe.analysis->result.has_value());
+  EXPECT_EQ(keyframe.keyframe.analysis->result->events.size(), 1u);
+  EXPECT_TRUE(events_->GetInstance("b", other_cup).pinned);
+}
+
 }  // namespace
 }  // namespace anchordb::services

@@ -6,6 +6,7 @@
 
 #include "schema/error.h"
 
+#include "storage/catalog.h"
 #include "storage/dialect.h"
 #include "storage/furniture_repository.h"
 #include "storage/repositories.h"
@@ -93,6 +94,49 @@ TEST_P(EventRepositoryTest, LabelIndexFollowsEveryChangeOfTheLabels) {
     s.Bind(1, cup_id).Run();
   });
   EXPECT_EQ(label_rows(), 2);
+}
+
+TEST_P(EventRepositoryTest, InstanceVersionCountsEveryChangeOfTheMapsInstancesLabelsAndHistory) {
+  const auto version = [&](const std::string& map) {
+    return store_->Read([&](Connection& c) { return InstanceVersion(c, map); });
+  };
+  EXPECT_EQ(version("home"), 0);
+  std::int64_t last = 0;
+  const auto changed = [&](const char* what) {
+    const std::int64_t now = version("home");
+    EXPECT_GT(now, last) << what;
+    last = now;
+  };
+  const std::int64_t id = store_->Write([](Connection& c) { return InsertInstance(c, Object("home", Labels{{"keys", 1.0}})); });
+  changed("insert");
+  store_->Write([&](Connection& c) {
+    auto r = *FindInstance(c, "home", id, false);
+    r.pinned = true;
+    UpdateInstance(c, r);
+  });
+  changed("update");
+  store_->Write([&](Connection& c) { AppendHistory(c, {id, 0, 100, true, {1, 2, 3}, std::nullopt}); });
+  changed("history");
+  store_->Write([&](Connection& c) {
+    Statement s(c, "UPDATE instance_labels SET weight = 2 WHERE instance_id = ?");  // a label row alone
+    s.Bind(1, id).Run();
+  });
+  changed("label");
+  // Another map's writes and reads leave the count alone.
+  const std::int64_t elsewhere = store_->Write([](Connection& c) { return InsertInstance(c, Object("other", Labels{})); });
+  store_->Write([&](Connection& c) { AppendHistory(c, {elsewhere, 0, 100, true, {0, 0, 0}, std::nullopt}); });
+  store_->Read([&](Connection& c) { ListInstances(c, "home", InstanceFilter{}, true); });
+  EXPECT_EQ(version("home"), last);
+  EXPECT_GT(version("other"), 0);
+  store_->Write([&](Connection& c) {
+    Statement s(c, "DELETE FROM instances WHERE id = ?");
+    s.Bind(1, id).Run();
+  });
+  changed("delete");
+  // Deleting the map takes its count with it; the count is derived, so a copy of the memory does not carry it.
+  store_->Write([](Connection& c) { DeleteMap(c, "other"); });
+  EXPECT_EQ(version("other"), 0);
+  EXPECT_TRUE(IsDerivedTable("map_instance_versions"));
 }
 
 TEST_P(EventRepositoryTest, HistoryAtATimeAndEventsWithEvidence) {
