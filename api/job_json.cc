@@ -25,17 +25,17 @@ std::map<std::string, JobDocumentWriters>& Writers() {
 }
 
 Json Document(const std::string& kind, std::int64_t job, const services::JobDocument& d, bool result) {
-  DocumentJsonWriter writer;
+  DocumentJsonWriter writer = [&kind](const std::string&, const std::string&) -> Json {
+    throw Error(ErrorCode::kInternal, "this server has no writer for the documents of job kind '" + kind + "'");
+  };
   {
     std::lock_guard<std::mutex> lock(writers_mutex);
     const auto it = Writers().find(kind);
-    if (it != Writers().end()) writer = result ? it->second.result : it->second.request;
+    if (it != Writers().end() && (result ? it->second.result : it->second.request)) {
+      writer = result ? it->second.result : it->second.request;
+    }
   }
-  const std::string what = "job " + std::to_string(job) + (result ? "'s result" : "'s request");
-  if (!writer && !d.encoded.empty() && storage::IsEncodedDocument(d.encoded)) {
-    return Json{{"unreadable", "this server has no writer for the documents of job kind '" + kind + "'"}};
-  }
-  return StoredDocumentJson(d, what, writer);
+  return StoredDocumentJson(d, "job " + std::to_string(job) + (result ? "'s result" : "'s request"), writer);
 }
 
 Json PolicyJson(const services::ForgetPolicy& p) {

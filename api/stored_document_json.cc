@@ -7,7 +7,6 @@ namespace anchordb::api {
 json::Json StoredDocumentJson(const services::JobDocument& d, const std::string& what, const DocumentJsonWriter& write) {
   if (d.encoded.empty()) return json::Json::parse(d.legacy_json, nullptr, false);
   if (!storage::IsEncodedDocument(d.encoded)) return json::Json::parse(d.encoded, nullptr, false);
-  if (!write) return json::Json{{"unreadable", "this server cannot read " + what}};
   try {
     return write(d.encoded, what);
   } catch (const Error& e) {

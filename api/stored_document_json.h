@@ -13,7 +13,7 @@ using DocumentJsonWriter = std::function<json::Json(const std::string& encoded, 
 
 // An encoded document through `write`; the JSON text of a row written before its kind was typed (legacy_json, or
 // JSON text in the document column: classifier and shape-model training jobs of schemas 24-26) as it was; a document
-// that cannot be read -- corrupt, or no `write` -- as {"unreadable": why}, so that one bad row does not hide others.
+// that `write` cannot read (it throws Error) as {"unreadable": why}, so that one bad row does not hide others.
 json::Json StoredDocumentJson(const services::JobDocument& document, const std::string& what, const DocumentJsonWriter& write);
 
 }  // namespace anchordb::api

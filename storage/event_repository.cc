@@ -66,15 +66,30 @@ void ReadInstanceRow(const Statement& s, bool with_sample, int label_at, std::ve
   if (!s.IsNull(label_at)) out.back().labels[s.Text(label_at)] = s.Double(label_at + 1);
 }
 
-// The instance's labels become `labels` (its map_id copied from its row, for the index by map and label).
-void WriteLabels(Connection& c, std::int64_t instance_id, const std::map<std::string, double>& labels) {
+void InsertLabels(Connection& c, std::int64_t instance_id, const std::string& map_id,
+                  const std::map<std::string, double>& labels) {
+  for (const auto& [label, weight] : labels) {
+    Statement s(c, "INSERT INTO instance_labels (instance_id, map_id, label, weight) VALUES (?, ?, ?, ?)");
+    s.Bind(1, instance_id).Bind(2, map_id).Bind(3, label).Bind(4, weight).Run();
+  }
+}
+
+// The instance's labels become `labels`; unchanged ones are not written again (most updates move an instance, and
+// every label row written counts as a change of the map's instances, migration 0028).
+void ReplaceLabels(Connection& c, std::int64_t instance_id, const std::map<std::string, double>& labels) {
+  Statement read(c, "SELECT i.map_id, l.label, l.weight FROM instances AS i "
+                    "LEFT JOIN instance_labels AS l ON l.instance_id = i.id WHERE i.id = ?");
+  read.Bind(1, instance_id);
+  std::string map_id;
+  std::map<std::string, double> stored;
+  while (read.Step()) {
+    map_id = read.Text(0);
+    if (!read.IsNull(1)) stored[read.Text(1)] = read.Double(2);
+  }
+  if (map_id.empty() || stored == labels) return;  // no such instance, or nothing to change
   Statement clear(c, "DELETE FROM instance_labels WHERE instance_id = ?");
   clear.Bind(1, instance_id).Run();
-  for (const auto& [label, weight] : labels) {
-    Statement s(c, "INSERT INTO instance_labels (instance_id, map_id, label, weight) "
-                   "SELECT id, map_id, ?, ? FROM instances WHERE id = ?");
-    s.Bind(1, label).Bind(2, weight).Bind(3, instance_id).Run();
-  }
+  InsertLabels(c, instance_id, map_id, labels);
 }
 
 // The event's own columns, then its detail columns (event_details_columns.h) from kEventDetailsAt.
@@ -158,7 +173,7 @@ std::int64_t InsertInstance(Connection& c, const InstanceRecord& r) {
   s.Bind(16, r.created_ns).Bind(17, r.updated_ns);
   if (r.sample.empty()) s.BindNull(18); else s.BindBlob(18, r.sample);
   const std::int64_t id = s.RunReturningId();
-  WriteLabels(c, id, r.labels);
+  InsertLabels(c, id, r.map_id, r.labels);
   return id;
 }
 
@@ -174,7 +189,7 @@ void UpdateInstance(Connection& c, const InstanceRecord& r) {
   s.Bind(15, r.updated_ns);
   if (r.sample.empty()) s.BindNull(16); else s.BindBlob(16, r.sample);
   s.Bind(17, r.id).Run();
-  WriteLabels(c, r.id, r.labels);
+  ReplaceLabels(c, r.id, r.labels);
 }
 
 std::optional<InstanceRecord> FindInstance(Connection& c, const std::string& map_id, std::int64_t id, bool with_sample) {
@@ -265,7 +280,6 @@ std::optional<HistoryRecord> HistoryAt(Connection& c, std::int64_t instance_id, 
   if (!s.Step()) return std::nullopt;
   return ReadHistory(s);
 }
-
 
 WhereInputs ReadWhereInputs(Connection& c, const std::string& map_id, const std::string& label, std::int64_t at_ns) {
   // Three parts in one UNION ALL, told apart by the first column: 0 a labelled object and its history entry at the

@@ -13,50 +13,30 @@
 namespace anchordb::services {
 namespace {
 
-storage::ShapeModelParamsRecord ParamsRecord(const engine::ShapeModelParams& p) {
-  storage::ShapeModelParamsRecord r;
-  r.voxel_m = p.voxel_m;
-  r.normal_radius_m = p.normal_radius_m;
-  r.boundary_angle_rad = p.boundary_angle_rad;
-  r.keypoint_spacing_m = p.keypoint_spacing_m;
-  r.shot_radius_m = p.shot_radius_m;
-  r.codebook_size = p.codebook_size;
-  r.activated_words = p.activated_words;
-  r.azimuth_bins = p.azimuth_bins;
-  r.polar_bins = p.polar_bins;
-  r.sphere_radius_m = p.sphere_radius_m;
-  r.detection_spacing_m = p.detection_spacing_m;
-  r.accept_fraction = p.accept_fraction;
-  r.merge_distance_m = p.merge_distance_m;
-  r.max_keypoints = p.max_keypoints;
-  r.seed = p.seed;
-  r.size_weight = p.size_weight;
-  r.size_bandwidth = p.size_bandwidth;
-  r.size_floor = p.size_floor;
-  return r;
-}
-
-engine::ShapeModelParams ParamsOf(const storage::ShapeModelParamsRecord& r) {
-  engine::ShapeModelParams p;
-  p.voxel_m = r.voxel_m;
-  p.normal_radius_m = r.normal_radius_m;
-  p.boundary_angle_rad = r.boundary_angle_rad;
-  p.keypoint_spacing_m = r.keypoint_spacing_m;
-  p.shot_radius_m = r.shot_radius_m;
-  p.codebook_size = r.codebook_size;
-  p.activated_words = r.activated_words;
-  p.azimuth_bins = r.azimuth_bins;
-  p.polar_bins = r.polar_bins;
-  p.sphere_radius_m = r.sphere_radius_m;
-  p.detection_spacing_m = r.detection_spacing_m;
-  p.accept_fraction = r.accept_fraction;
-  p.merge_distance_m = r.merge_distance_m;
-  p.max_keypoints = r.max_keypoints;
-  p.seed = r.seed;
-  p.size_weight = r.size_weight;
-  p.size_bandwidth = r.size_bandwidth;
-  p.size_floor = r.size_floor;
-  return p;
+// engine::ShapeModelParams and its stored record (storage/shape_documents.h) have the same fields by name and type:
+// one copy serves both directions.
+template <typename To, typename From>
+To CopyParams(const From& from) {
+  To to;
+  to.voxel_m = from.voxel_m;
+  to.normal_radius_m = from.normal_radius_m;
+  to.boundary_angle_rad = from.boundary_angle_rad;
+  to.keypoint_spacing_m = from.keypoint_spacing_m;
+  to.shot_radius_m = from.shot_radius_m;
+  to.codebook_size = from.codebook_size;
+  to.activated_words = from.activated_words;
+  to.azimuth_bins = from.azimuth_bins;
+  to.polar_bins = from.polar_bins;
+  to.sphere_radius_m = from.sphere_radius_m;
+  to.detection_spacing_m = from.detection_spacing_m;
+  to.accept_fraction = from.accept_fraction;
+  to.merge_distance_m = from.merge_distance_m;
+  to.max_keypoints = from.max_keypoints;
+  to.seed = from.seed;
+  to.size_weight = from.size_weight;
+  to.size_bandwidth = from.size_bandwidth;
+  to.size_floor = from.size_floor;
+  return to;
 }
 
 storage::ShapeModelReportRecord ReportRecord(const engine::TrainingReport& report, int mesh_views, double seconds) {
@@ -100,7 +80,7 @@ ShapeService::ShapeService(storage::Store& store, JobService& jobs, ShapeSetting
   kind.check = [](const JobSubmission& s) {
     const storage::ShapeTrainingRequestRecord r = storage::DecodeShapeTrainingRequest(s.request, "the training request");
     json::CheckId(r.options.name, "name");
-    engine::CheckShapeModelParams(ParamsOf(r.options.params));
+    engine::CheckShapeModelParams(CopyParams<engine::ShapeModelParams>(r.options.params));
   };
   kind.run = [&store = store_, &clock = clock_, staging_area = staging_](JobContext& job) -> std::optional<std::string> {
     const storage::ShapeTrainingRequestRecord request = storage::DecodeShapeTrainingRequest(job.request(), "the training request");
@@ -115,7 +95,7 @@ ShapeService::ShapeService(storage::Store& store, JobService& jobs, ShapeSetting
       staged = std::move(it->second);
       staging_area->staged.erase(it);
     }
-    const engine::ShapeModelParams params = ParamsOf(request.options.params);
+    const engine::ShapeModelParams params = CopyParams<engine::ShapeModelParams>(request.options.params);
     const auto start = std::chrono::steady_clock::now();
     std::vector<engine::LabelledCloud> samples = std::move(staged.clouds);
     for (std::size_t m = 0; m < staged.meshes.size(); ++m) {
@@ -154,7 +134,7 @@ JobTicket ShapeService::SubmitTraining(const TrainShapeModelRequest& r) {
   staged.mesh_views = r.mesh_views;
   storage::ShapeTrainingRequestRecord request;
   request.options.name = r.name;
-  request.options.params = ParamsRecord(r.params);
+  request.options.params = CopyParams<storage::ShapeModelParamsRecord>(r.params);
   request.options.mesh_views = r.mesh_views;
   std::set<std::string> with_samples;
   for (std::size_t i = 0; i < r.samples.size(); ++i) {
