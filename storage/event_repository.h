@@ -87,10 +87,24 @@ struct WhereCandidateRecord {
   InstanceRecord instance;
   std::optional<HistoryRecord> position;
 };
+// What those inputs depend on besides the label and the time: the map (its creation time: a map deleted and made
+// again under the same id is another map), its count of instance changes (InstanceVersion) and its newest furniture
+// graph. Inputs read with a stamp are still the inputs while the map's stamp is equal to it.
+struct WhereStamp {
+  std::optional<std::int64_t> map_created_ns;  // absent: no such map
+  std::int64_t instance_version = 0;
+  std::optional<std::int64_t> newest_graph_id;
+  bool operator==(const WhereStamp& o) const {
+    return map_created_ns == o.map_created_ns && instance_version == o.instance_version && newest_graph_id == o.newest_graph_id;
+  }
+};
+// The map's stamp now, in one statement (three index lookups).
+WhereStamp ReadWhereStamp(Connection& c, const std::string& map_id);
 struct WhereInputs {
   std::vector<WhereCandidateRecord> labelled;
   std::vector<InstanceRecord> furniture;
   std::optional<std::int64_t> newest_graph_id;
+  WhereStamp stamp;  // read by the same statement (one snapshot)
 };
 WhereInputs ReadWhereInputs(Connection& c, const std::string& map_id, const std::string& label, std::int64_t at_ns);
 

@@ -275,14 +275,26 @@ WherePlacement GeometryPlacement(const std::vector<storage::InstanceRecord>& fur
 // in one statement (one round trip on PostgreSQL, consistent on its own). The classifier's pass and the provenance
 // (the recording event, the last camera) are read after it only when needed: events, their evidence and scenes are
 // never changed once written, so reading them a moment later answers the same (a forgotten one is simply absent).
+storage::WhereInputs EventService::WhereInputsFor(const std::string& map, const std::string& label,
+                                                  std::optional<std::int64_t> at_ns) {
+  if (!at_ns && where_cache_.Holds(map, label)) {
+    const storage::WhereStamp now = store_.ReadOneStatement([&](storage::Connection& c) { return storage::ReadWhereStamp(c, map); });
+    if (auto kept = where_cache_.Find(map, label, now)) return std::move(*kept);
+  }
+  const std::int64_t at = at_ns.value_or(std::numeric_limits<std::int64_t>::max());
+  storage::WhereInputs inputs = store_.ReadOneStatement([&](storage::Connection& c) {
+    return storage::ReadWhereInputs(c, map, label, at);
+  });
+  if (!at_ns) where_cache_.Put(map, label, inputs);
+  return inputs;
+}
+
 WhereAnswer EventService::Where(const std::string& map, const WhereRequest& request) {
   const std::string label = engine::NormaliseLabel(request.label, settings_.max_label_length, "label");
   const std::optional<std::int64_t> at_ns = request.at_ns;
   if (at_ns && *at_ns > clock_.NowNs()) throw Error(ErrorCode::kUnprocessable, "at lies in the future; where answers for the past and now", "at");
   const std::int64_t at = at_ns.value_or(std::numeric_limits<std::int64_t>::max());
-  storage::WhereInputs inputs = store_.ReadOneStatement([&](storage::Connection& c) {
-    return storage::ReadWhereInputs(c, map, label, at);
-  });
+  storage::WhereInputs inputs = WhereInputsFor(map, label, at_ns);
   WhereCandidates found;
   for (auto& r : inputs.labelled) {
     const double p = engine::LabelProbability(r.instance.labels, label);

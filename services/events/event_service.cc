@@ -95,7 +95,8 @@ std::map<std::int64_t, storage::InstanceRecord> ById(const std::vector<storage::
 }  // namespace
 
 EventService::EventService(storage::Store& store, FurnitureService* furniture, EventSettings settings, const Clock& clock)
-    : store_(store), furniture_(furniture), settings_(settings), clock_(clock) {}
+    : store_(store), furniture_(furniture), settings_(settings), clock_(clock),
+      where_cache_(static_cast<std::size_t>(std::max(0, settings.where_cache_entries))) {}
 
 std::mutex& EventService::MapMutex(const std::string& map) {
   return map_mutexes_[std::hash<std::string>{}(map) % kMapStripes];

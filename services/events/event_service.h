@@ -25,6 +25,7 @@
 #include "engine/events/rules.h"
 #include "schema/clock.h"
 #include "services/events/event_types.h"
+#include "services/events/where_inputs_cache.h"
 #include "services/scene/keyframe_listener.h"
 #include "storage/store.h"
 
@@ -39,6 +40,9 @@ struct EventSettings {
   double removed_min_seen_through = engine::kRemovedMinSeenThrough;  // fraction of an instance's visible points seen through -> removed
   int removed_min_visible_points = engine::kRemovedMinVisiblePoints;  // fewer visible points prove nothing
   std::size_t max_label_length = 64;
+  // where-is questions for now whose stored inputs are kept between changes of their map's objects
+  // (services/events/where_inputs_cache.h); 0 keeps none.
+  int where_cache_entries = 256;
   // The live stream GET /v1/maps/{map}/events:stream (api/stream_routes.h). Each open stream holds one HTTP worker,
   // so at most max_streams are open at once (one more: 503 + Retry-After) and each ends after max_duration_s (the
   // client reconnects with Last-Event-ID and misses nothing): streams never take the workers other clients need.
@@ -70,6 +74,7 @@ class EventService {
   // The map's newest event id (0 when it has none); unknown map: kNotFound.
   std::int64_t LatestEventId(const std::string& map);
   const EventSettings& settings() const { return settings_; }
+  const WhereInputsCache& where_cache() const { return where_cache_; }
   EventView GetEvent(const std::string& map, std::int64_t id);
   // Labels the instance the event concerns (kUnprocessable when it concerns none).
   LabelResult LabelEvent(const std::string& map, std::int64_t event_id, const LabelRequest& request);
@@ -108,11 +113,14 @@ class EventService {
   engine::EventRules Rules() const;
   std::optional<WherePlacement> GraphPlacement(const std::string& map, const Eigen::Vector3d& p_map,
                                                std::optional<std::int64_t> graph);
+  // The stored inputs of a where-is answer: for now (no at_ns) from where_cache_ while the map's stamp is unchanged.
+  storage::WhereInputs WhereInputsFor(const std::string& map, const std::string& label, std::optional<std::int64_t> at_ns);
 
   storage::Store& store_;
   FurnitureService* furniture_;
   EventSettings settings_;
   const Clock& clock_;
+  WhereInputsCache where_cache_;
   std::function<void(const std::string&)> analysis_hook_;
   std::atomic<std::int64_t> analyses_in_write_{0};
   // Analyses of one map run one at a time (instances are shared state; edits such as labels do not take it: the

@@ -20,6 +20,8 @@ void BindEventSettings(SettingsBinder& b, EventSettings& e) {
          "makes it removed", &e.removed_min_seen_through, 0.0, 1.0);
   b.Bind("event_removed_min_visible_points", "fewer visible points of an instance prove nothing about its removal",
          &e.removed_min_visible_points, 1, 1e6);
+  b.Bind("where_cache_entries", "where-is questions for now (map and label) whose stored inputs are kept while their "
+         "map's objects, labels and furniture graphs are unchanged; 0 keeps none", &e.where_cache_entries, 0, 1000000);
   b.Bind("stream_max_streams", "live event streams (events:stream) open at once; each holds an HTTP worker",
          &e.stream.max_streams, 1, 1000);
   b.Bind("stream_max_duration_s", "one events:stream response ends after this; the client resumes with Last-Event-ID [s]",

@@ -157,11 +157,14 @@ class Server:
 
     test: a unittest.TestCase (cleanup is registered on it) or None (call close() yourself).
     db_path: an existing database file to serve; by default <tmpdir>/x.sqlite.
+    sqlite_file: serve db_path as the SQLite file it is under either engine switch (a test that brings the file's
+    content itself, such as a database of an earlier release).
     """
 
-    def __init__(self, test=None, extra_args=(), db_path=None, start=True, token=None):
+    def __init__(self, test=None, extra_args=(), db_path=None, start=True, token=None, sqlite_file=False):
         self.tmpdir = tempfile.mkdtemp(prefix="anchordb-it-")
         self.db_path = db_path or os.path.join(self.tmpdir, "x.sqlite")
+        self.sqlite_file = sqlite_file
         self.extra_args = list(extra_args)
         self.token = token
         self.proc = None
@@ -193,7 +196,8 @@ class Server:
         self._starts += 1
         self._stderr_path = os.path.join(self.tmpdir, "stderr.%d.txt" % self._starts)
         self._stderr_file = open(self._stderr_path, "wb")
-        args = [binary(), "serve", "--db", database_location(self.db_path), "--port", "0"] + self.extra_args
+        location = self.db_path if self.sqlite_file else database_location(self.db_path)
+        args = [binary(), "serve", "--db", location, "--port", "0"] + self.extra_args
         self.expect_exit = False
         self.proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=self._stderr_file, env=clean_env(),
                                      cwd=self.tmpdir)

@@ -118,7 +118,7 @@ KNOWN_CHANGES = {
 
 def serve_copy(manifest, test=None, extra_args=()):
     """The current server on a copy of the kept file (the kept file itself never changes)."""
-    server = harness.Server(test, extra_args=extra_args, start=False)
+    server = harness.Server(test, extra_args=extra_args, start=False, sqlite_file=True)
     shutil.copyfile(os.path.join(DATA, manifest["file"]), server.db_path)
     try:
         server.start()
