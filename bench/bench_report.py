@@ -9,9 +9,11 @@
       response body bytes, connections opened. Prints the side-by-side table with the ratios anchordb / peer and
       writes OUT_JSON.
   bench_report.py engines OUT_JSON MANIFEST INGEST_SQLITE INGEST_POSTGRESQL
-      MANIFEST: key (<engine>_<route>), description, url, wrk output file per line; INGEST_*: the JSON lines of
-      anchordb_ingest_bench on each engine. Prints SQLite beside PostgreSQL with the ratios and the goals (reads on
-      PostgreSQL >= 0.5x SQLite's req/s; durable ingest >= 60 frames/s on both) and writes OUT_JSON.
+      MANIFEST: key (<engine>_<route>_<round>), description, url, wrk output file per line; INGEST_*: the JSON
+      lines of anchordb_ingest_bench on each engine. Prints SQLite beside PostgreSQL (each engine's median round by
+      req/s; p50 of that round, p99 and max the worst of all rounds), the ratio of the medians with the worst and best
+      ratio of one round's pair, and the goals (reads on PostgreSQL >= 0.5x SQLite's req/s, on the medians; durable
+      ingest >= 60 frames/s on both), and writes OUT_JSON.
 """
 import json
 import re
@@ -173,6 +175,16 @@ ENGINE_READ_RATIO_GOAL = 0.5
 INGEST_GOAL_FPS = 60.0
 
 
+def _median_round(rounds):
+    """The round whose req/s is the median (the lower middle for an even count), with the worst p99 and max."""
+    ordered = sorted(rounds, key=lambda r: r["requests_per_s"])
+    mid = dict(ordered[(len(ordered) - 1) // 2])
+    mid["latency_ms"] = dict(mid["latency_ms"], p99=max(r["latency_ms"]["p99"] for r in rounds),
+                             max=max(r["latency_ms"]["max"] for r in rounds))
+    mid["errors"] = sum(r["errors"] for r in rounds)
+    return mid
+
+
 def engines(out_path, manifest_path, ingest_sqlite, ingest_postgresql):
     runs = {}
     for line in open(manifest_path):
@@ -188,22 +200,34 @@ def engines(out_path, manifest_path, ingest_sqlite, ingest_postgresql):
     ingest = {"sqlite": [json.loads(l) for l in open(ingest_sqlite) if l.strip()],
               "postgresql": [json.loads(l) for l in open(ingest_postgresql) if l.strip()]}
     print(f"{'':<28}{'SQLite req/s':>13}{'p50':>8}{'p99':>8}{'max ms':>9}{'PostgreSQL req/s':>18}{'p50':>8}{'p99':>8}"
-          f"{'max ms':>9}{'PG/SQLite':>11}{'errors':>8}")
+          f"{'max ms':>9}{'PG/SQLite':>11}{'worst':>7}{'best':>6}{'errors':>8}")
     ratios, verdicts = {}, []
     for route, what, kind in (("layer", "GET layer metadata", "read"), ("where", "GET where?label=keys", "read"),
                               ("label", "POST a label", "write")):
-        a, b = runs[f"sqlite_{route}"], runs[f"postgresql_{route}"]
+        pairs = []
+        k = 1
+        while f"sqlite_{route}_{k}" in runs and f"postgresql_{route}_{k}" in runs:
+            pairs.append((runs[f"sqlite_{route}_{k}"], runs[f"postgresql_{route}_{k}"]))
+            k += 1
+        if not pairs:
+            raise SystemExit(f"bench_report: no rounds of {route} in {manifest_path}")
+        a, b = _median_round([p[0] for p in pairs]), _median_round([p[1] for p in pairs])
         ratio = b["requests_per_s"] / a["requests_per_s"] if a["requests_per_s"] else 0.0
-        ratios[route] = ratio
+        paired = [q["requests_per_s"] / p["requests_per_s"] if p["requests_per_s"] else 0.0 for p, q in pairs]
+        ratios[route] = {"median_over_median": ratio, "rounds": len(pairs), "round_ratios": paired,
+                         "sqlite_rounds_per_s": [p[0]["requests_per_s"] for p in pairs],
+                         "postgresql_rounds_per_s": [p[1]["requests_per_s"] for p in pairs]}
         la, lb = a["latency_ms"], b["latency_ms"]
         print(f"{what + ' (' + kind + ')':<28}{a['requests_per_s']:>13.0f}{la['p50']:>8.2f}{la['p99']:>8.2f}{la['max']:>9.1f}"
               f"{b['requests_per_s']:>18.0f}{lb['p50']:>8.2f}{lb['p99']:>8.2f}{lb['max']:>9.1f}{ratio:>11.3f}"
-              f"{a['errors'] + b['errors']:>8}")
-        for r in (a, b):
-            if r["errors"]:
-                print(f"    {r['description']}: wrk counted errors {r['error_kinds']} (status: answers other than 2xx/3xx)")
+              f"{min(paired):>7.3f}{max(paired):>6.3f}{a['errors'] + b['errors']:>8}")
+        for p in pairs:
+            for r in p:
+                if r["errors"]:
+                    print(f"    {r['description']}: wrk counted errors {r['error_kinds']} (status: answers other than 2xx/3xx)")
         if kind == "read":
-            verdicts.append(f"reads on PostgreSQL >= {ENGINE_READ_RATIO_GOAL}x SQLite, {what}: {ratio:.3f} -> "
+            verdicts.append(f"reads on PostgreSQL >= {ENGINE_READ_RATIO_GOAL}x SQLite, {what}: {ratio:.3f} over "
+                            f"{len(pairs)} rounds (one round's pair: worst {min(paired):.3f}, best {max(paired):.3f}) -> "
                             f"{'met' if ratio >= ENGINE_READ_RATIO_GOAL and not a['errors'] + b['errors'] else 'NOT met'}")
     for engine, lines in ingest.items():
         for r in lines:
