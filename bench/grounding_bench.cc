@@ -82,6 +82,32 @@ BENCHMARK(BM_Ground20Descriptions)->Args({10, 8, 0})->Args({30, 8, 0})->Args({30
 // Growth with the number of pieces at n = 100.
 BENCHMARK(BM_Ground20Descriptions)->Args({100, 4, 0})->Args({100, 12, 0})->Args({100, 16, 0})->Args({100, 24, 0})->Unit(benchmark::kMillisecond);
 
+// Issue 33: the cost of the t-th description of one dialog (t = 20, 200, 1000) with the sequence before it already
+// grounded (not timed; each iteration grounds the t-th again on the same set). Flat in t when grounding is
+// incremental in the dialog. model: 0 the thesis' (sequential), 2 the joint model, as above.
+void BM_GroundTheTthDescription(benchmark::State& state) {
+  const int t = static_cast<int>(state.range(0));
+  const Scene scene = MakeScene(8, t);
+  const g::Knowledge& k = g::DefaultKnowledge();
+  g::GroundingParams params;
+  params.n_best = 100;
+  if (state.range(1) == 2) {
+    params.model = g::Model::kJoint;
+    params.ambiguity_margin = 0.3;
+    params.category_floor = 0.05;
+  }
+  g::HypothesisSet before = g::InitialHypotheses(scene.graph);
+  for (int i = 0; i + 1 < t; ++i) before = g::Ground(scene.graph, k, before, scene.descriptions[static_cast<std::size_t>(i)], params);
+  for (auto _ : state) {
+    g::HypothesisSet next = g::Ground(scene.graph, k, before, scene.descriptions.back(), params);
+    benchmark::DoNotOptimize(next.ranked.front().score);
+  }
+  state.counters["t"] = t;
+  state.counters["model"] = static_cast<double>(state.range(1));
+}
+BENCHMARK(BM_GroundTheTthDescription)->Args({20, 0})->Args({200, 0})->Args({1000, 0})->Args({20, 2})->Args({200, 2})
+    ->Args({1000, 2})->Unit(benchmark::kMillisecond);
+
 }  // namespace
 
 BENCHMARK_MAIN();
