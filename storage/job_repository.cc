@@ -28,13 +28,13 @@ JobStatus JobStatusFromName(std::string_view name) {
 }
 
 std::int64_t InsertJob(Connection& c, const std::string& kind, const std::optional<std::string>& map_id,
-                       const std::string& request_document, std::int64_t now_ns) {
+                       const std::string& request_document, std::int64_t now_ns, const std::string& server_id) {
   Statement s(c, "INSERT INTO jobs (kind, map_id, status, stage, progress, request, request_document, created_ns, "
-                 "updated_ns) VALUES (?, ?, 'queued', '', 0, '', ?, ?, ?) RETURNING id");
+                 "updated_ns, server_id) VALUES (?, ?, 'queued', '', 0, '', ?, ?, ?, ?) RETURNING id");
   s.Bind(1, kind);
   if (map_id) s.Bind(2, *map_id);
   else s.BindNull(2);
-  s.BindBlob(3, request_document).Bind(4, now_ns).Bind(5, now_ns);
+  s.BindBlob(3, request_document).Bind(4, now_ns).Bind(5, now_ns).Bind(6, server_id);
   return s.RunReturningId();
 }
 
@@ -84,9 +84,9 @@ std::vector<JobRecord> ListJobs(Connection& c, const std::optional<std::string>&
   return out;
 }
 
-std::optional<std::int64_t> NextQueuedJob(Connection& c, std::int64_t after_id) {
-  Statement s(c, "SELECT id FROM jobs WHERE status = 'queued' AND id > ? ORDER BY id LIMIT 1");
-  s.Bind(1, after_id);
+std::optional<std::int64_t> NextQueuedJob(Connection& c, const std::string& server_id, std::int64_t after_id) {
+  Statement s(c, "SELECT id FROM jobs WHERE status = 'queued' AND server_id = ? AND id > ? ORDER BY id LIMIT 1");
+  s.Bind(1, server_id).Bind(2, after_id);
   if (!s.Step()) return std::nullopt;
   return s.Int(0);
 }
@@ -103,18 +103,34 @@ void SetJobStatus(Connection& c, std::int64_t id, JobStatus status, const std::s
   s.Bind(6, now_ns).Bind(7, id).Run();
 }
 
-int MarkUnfinishedJobsFailed(Connection& c, const std::string& message, std::int64_t now_ns,
-                             const std::map<std::string, std::string>& notes_after_result) {
-  static const char* kSet = "UPDATE jobs SET status = 'failed', error = ?1 || CASE WHEN stage <> '' THEN ' (stage ' || "
-                            "stage || ')' ELSE '' END || ?3, updated_ns = ?2 WHERE status IN ('queued', 'running')";
+std::vector<std::optional<std::string>> UnfinishedJobServers(Connection& c) {
+  Statement s(c, "SELECT server_id FROM jobs WHERE status IN ('queued', 'running') GROUP BY server_id "
+                 "ORDER BY server_id IS NOT NULL, server_id");  // none first on both engines
+  std::vector<std::optional<std::string>> out;
+  while (s.Step()) out.push_back(s.IsNull(0) ? std::nullopt : std::optional<std::string>(s.Text(0)));
+  return out;
+}
+
+int MarkUnfinishedJobsFailed(Connection& c, const std::optional<std::string>& server_id, const std::string& message,
+                             std::int64_t now_ns, const std::map<std::string, std::string>& notes_after_result) {
+  const std::string set = std::string("UPDATE jobs SET status = 'failed', error = ?1 || CASE WHEN stage <> '' THEN ' (stage ' || "
+                                      "stage || ')' ELSE '' END || ?3, updated_ns = ?2 WHERE status IN ('queued', 'running') AND ") +
+                          (server_id ? "server_id = ?5" : "server_id IS NULL");
+  const auto bind_server = [&](Statement& s) {
+    if (server_id) s.Bind(5, *server_id);
+  };
   int changed = 0;
   for (const auto& [kind, note] : notes_after_result) {
-    Statement s(c, std::string(kSet) + " AND kind = ?4 AND (result IS NOT NULL OR result_document IS NOT NULL)");
-    s.Bind(1, message).Bind(2, now_ns).Bind(3, note).Bind(4, kind).Run();
+    Statement s(c, set + " AND kind = ?4 AND (result IS NOT NULL OR result_document IS NOT NULL)");
+    s.Bind(1, message).Bind(2, now_ns).Bind(3, note).Bind(4, kind);
+    bind_server(s);
+    s.Run();
     changed += static_cast<int>(c.Changes());
   }
-  Statement s(c, kSet);
-  s.Bind(1, message).Bind(2, now_ns).Bind(3, std::string()).Run();
+  Statement s(c, set);  // ?4 unused: SQLite ignores the gap, storage/postgres.cc declares it text
+  s.Bind(1, message).Bind(2, now_ns).Bind(3, std::string());
+  bind_server(s);
+  s.Run();
   return changed + static_cast<int>(c.Changes());
 }
 

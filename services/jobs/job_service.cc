@@ -1,6 +1,9 @@
 #include "services/jobs/job_service.h"
 
+#include <unistd.h>
+
 #include <chrono>
+#include <cstdint>
 
 #include "schema/error.h"
 #include "services/jobs/backup_job.h"
@@ -67,9 +70,13 @@ JobService::JobService(storage::Store& store, JobSettings settings, const Clock&
     if (!kind.note_when_failed_after_result.empty()) notes_after_result[kind.name] = kind.note_when_failed_after_result;
     registry_.Register(std::move(kind));
   }
-  interrupted_at_start_ = store_.Write([&](storage::Connection& c) {
-    return storage::MarkUnfinishedJobsFailed(c, kInterrupted, clock_.NowNs(), notes_after_result);
-  });
+  notes_after_result_ = std::move(notes_after_result);
+  storage::ConnectionOptions options;
+  options.busy_timeout_ms = settings_.busy_timeout_ms;
+  const auto seed = static_cast<std::uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count()) ^
+                    (static_cast<std::uint64_t>(::getpid()) << 40) ^ reinterpret_cast<std::uintptr_t>(this);
+  presence_ = std::make_unique<storage::ServerPresence>(store_.path(), options, seed);
+  interrupted_at_start_ = MarkJobsOfGoneServers(true);
   worker_ = std::thread([this] { Worker(); });
 }
 
@@ -82,6 +89,34 @@ JobService::~JobService() {
   }
   wake_.notify_all();
   if (worker_.joinable()) worker_.join();
+}
+
+int JobService::MarkJobsOfGoneServers(bool at_once) {
+  const auto servers = store_.Read([](storage::Connection& c) { return storage::UnfinishedJobServers(c); });
+  std::set<std::optional<std::string>> gone;
+  for (const auto& id : servers) {
+    if (!id || !presence_->Running(*id)) gone.insert(id);
+  }
+  std::set<std::optional<std::string>> mark;
+  for (const auto& id : gone) {
+    if (at_once || gone_at_last_pass_.count(id)) mark.insert(id);
+  }
+  gone_at_last_pass_ = std::move(gone);
+  if (mark.empty()) return 0;
+  return store_.Write([&](storage::Connection& c) {
+    int n = 0;
+    for (const auto& id : mark) n += storage::MarkUnfinishedJobsFailed(c, id, kInterrupted, clock_.NowNs(), notes_after_result_);
+    return n;
+  });
+}
+
+void JobService::Reap() {
+  try {
+    presence_->Hold();  // after a failover: this server's lock again, before it judges others
+    interrupted_since_start_ += MarkJobsOfGoneServers(false);
+  } catch (const std::exception&) {
+    // The database cannot answer now (a failover, a full disk): the next pass looks again.
+  }
 }
 
 void JobService::Register(JobKind kind) {
@@ -127,7 +162,7 @@ std::int64_t JobService::Enqueue(const std::string& kind, const std::optional<st
   try {
     id = store_.Write([&](storage::Connection& c) {
       if (map && !storage::FindMap(c, *map)) throw Error(ErrorCode::kNotFound, "map '" + *map + "' does not exist", "map");
-      return storage::InsertJob(c, kind, map, request_document, clock_.NowNs());
+      return storage::InsertJob(c, kind, map, request_document, clock_.NowNs(), presence_->id());
     });
   } catch (...) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -203,11 +238,22 @@ bool JobService::WaitIdle(double timeout_s) {
 }
 
 void JobService::Worker() {
+  const auto interval = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(settings_.reap_interval_s));
+  auto next_reap = std::chrono::steady_clock::now() + interval;
   for (;;) {
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [&] { return stop_ || pending_ > 0; });
+      wake_.wait_until(lock, next_reap, [&] { return stop_ || pending_ > 0; });
       if (stop_) return;
+    }
+    if (std::chrono::steady_clock::now() >= next_reap) {  // also between jobs of a busy queue
+      Reap();
+      next_reap = std::chrono::steady_clock::now() + interval;
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (pending_ == 0) continue;
     }
     RecordFailures();
     std::map<std::int64_t, std::string> failed;
@@ -218,8 +264,8 @@ void JobService::Worker() {
     std::int64_t id = 0;
     try {
       id = store_.Read([&](storage::Connection& c) {
-        auto next = storage::NextQueuedJob(c);
-        while (next && failed.count(*next)) next = storage::NextQueuedJob(c, *next);  // failed, not yet recorded
+        auto next = storage::NextQueuedJob(c, presence_->id());
+        while (next && failed.count(*next)) next = storage::NextQueuedJob(c, presence_->id(), *next);  // failed, not yet recorded
         return next.value_or(0);
       });
     } catch (const std::exception&) {

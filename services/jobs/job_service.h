@@ -9,6 +9,10 @@
 //   'succeeded' with its deletions or shows no deletion at all; a vacuum runs after that commit (stage "vacuum").
 // - At start-up, jobs found 'queued' or 'running' (a kill -9 or a crash) are marked 'failed' with the error
 //   "interrupted by a server stop"; their result (when the deletions were committed before a vacuum) is kept.
+//   With several servers on one database (issue 31) a server runs the jobs it accepted, and only the jobs of a server
+//   that is gone are marked (storage/server_presence.h: PostgreSQL itself says whether that server's session holds
+//   its lock): at start-up, and by the worker every reap_interval_s for a server seen gone at two passes in a row (a
+//   server that lost its session in a failover takes its lock again within one pass and keeps its jobs).
 // - The destructor interrupts a running job (it rolls back, or its vacuum is cut short) and joins the worker.
 // Progress (stage, fraction) of the running job is kept in memory while its transaction holds the write lock and
 // overlaid on the stored row by Get.
@@ -19,6 +23,7 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -28,6 +33,7 @@
 #include "services/jobs/job_types.h"
 #include "storage/forget_policy.h"
 #include "storage/job_repository.h"
+#include "storage/server_presence.h"
 #include "storage/connection.h"
 #include "storage/store.h"
 
@@ -38,6 +44,7 @@ struct JobSettings {
   int busy_timeout_ms = 30000;       // the job's own connection waits this long for the write lock
   std::string synchronous = "FULL";  // of the job's connection (as the store's)
   std::string backup_dir;            // where backups go; empty: backups are refused
+  double reap_interval_s = 5.0;      // [s] how often the worker looks for the jobs of servers that are gone
 };
 
 class JobService {
@@ -71,6 +78,10 @@ class JobService {
   std::int64_t NowNs() const { return clock_.NowNs(); }
   // Jobs marked failed at start-up because a server stop interrupted them.
   int interrupted_at_start() const { return interrupted_at_start_; }
+  // This server's id on the database (the jobs it accepts carry it).
+  const std::string& server_id() const { return presence_->id(); }
+  // Jobs of other servers found gone and marked failed since start (the worker's passes).
+  int interrupted_since_start() const { return interrupted_since_start_.load(); }
   // Blocks until no job is queued or running (tests); false on timeout.
   bool WaitIdle(double timeout_s);
 
@@ -85,6 +96,9 @@ class JobService {
   void Fail(std::int64_t id, const JobKind* kind, const std::string& what);
   // Writes the failures Fail could not write (the database refused writes then); keeps those that fail again.
   void RecordFailures();
+  // Marks the unfinished jobs of servers that are gone: at once (start-up), or seen gone at the previous pass too.
+  int MarkJobsOfGoneServers(bool at_once);
+  void Reap();  // the worker's pass: Hold, then MarkJobsOfGoneServers(false); errors wait for the next pass
   void SetStatus(storage::Connection& c, std::int64_t id, JobStatus status, const std::string& stage, double progress,
                  const std::string* result_document, const std::string* error) const;
 
@@ -92,6 +106,10 @@ class JobService {
   JobSettings settings_;
   const Clock& clock_;
   int interrupted_at_start_ = 0;
+  std::atomic<int> interrupted_since_start_{0};
+  std::unique_ptr<storage::ServerPresence> presence_;  // used by the constructor, then by the worker only
+  std::set<std::optional<std::string>> gone_at_last_pass_;
+  std::map<std::string, std::string> notes_after_result_;  // kind -> note, for jobs marked after their result
   std::mutex mutex_;
   JobRegistry registry_;  // guarded by mutex_
   std::condition_variable wake_;

@@ -36,7 +36,7 @@ TEST_P(JobStatusRepositoryTest, AStatusWrittenReadsBack) {
   StoreOptions so;
   so.path = db_.location();
   Store store(so);
-  const std::int64_t id = store.Write([](Connection& c) { return InsertJob(c, "forget", std::nullopt, "{}", 10); });
+  const std::int64_t id = store.Write([](Connection& c) { return InsertJob(c, "forget", std::nullopt, "{}", 10, "0000000a"); });
   EXPECT_EQ(store.Read([&](Connection& c) { return FindJob(c, id)->status; }), JobStatus::kQueued);
   const std::string result = "{}";
   store.Write([&](Connection& c) { SetJobStatus(c, id, JobStatus::kSucceeded, "done", 1.0, &result, nullptr, 20); });

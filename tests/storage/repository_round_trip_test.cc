@@ -48,9 +48,9 @@ INSTANTIATE_TEST_SUITE_P(Engines, RepositoryRoundTripTest, testing::BothEngines(
 TEST_P(RepositoryRoundTripTest, JobsKeepTheirFieldsStatusesAndOrder) {
   const auto [backup, forget, segment] = store_->Write([](Connection& c) {
     // One statement each, in this order (the arguments of one call are evaluated in an unspecified order).
-    const std::int64_t b = InsertJob(c, "backup", std::nullopt, EncodeBackupRequest({"/b/nightly.sqlite"}), 10);
-    const std::int64_t f = InsertJob(c, "forget", "home"s, EncodeForgetRequest({}), 20);
-    return std::make_tuple(b, f, InsertJob(c, "segment", "other"s, "any bytes\0\xff"s, 30));
+    const std::int64_t b = InsertJob(c, "backup", std::nullopt, EncodeBackupRequest({"/b/nightly.sqlite"}), 10, "0000000a");
+    const std::int64_t f = InsertJob(c, "forget", "home"s, EncodeForgetRequest({}), 20, "0000000a");
+    return std::make_tuple(b, f, InsertJob(c, "segment", "other"s, "any bytes\0\xff"s, 30, "0000000a"));
   });
   const JobRecord f = *Job(forget);
   EXPECT_EQ(f.kind, "forget");
@@ -68,8 +68,9 @@ TEST_P(RepositoryRoundTripTest, JobsKeepTheirFieldsStatusesAndOrder) {
   EXPECT_EQ(Job(segment)->request.encoded, "any bytes\0\xff"s);  // a kind's document is bytes, kept exactly
   EXPECT_FALSE(Job(segment + 1000).has_value());
   // The oldest queued first, and after a given id.
-  EXPECT_EQ(store_->Read([](Connection& c) { return NextQueuedJob(c); }), backup);
-  EXPECT_EQ(store_->Read([&, b = backup](Connection& c) { return NextQueuedJob(c, b); }), forget);
+  EXPECT_EQ(store_->Read([](Connection& c) { return NextQueuedJob(c, "0000000a"); }), backup);
+  EXPECT_EQ(store_->Read([&, b = backup](Connection& c) { return NextQueuedJob(c, "0000000a", b); }), forget);
+  EXPECT_FALSE(store_->Read([](Connection& c) { return NextQueuedJob(c, "0000000b"); })) << "another server's queue";
   // Status changes: a result stays when none is given; an error is replaced, and cleared by none.
   const std::string result = EncodeBackupReport({"/b/nightly.sqlite", 123, 1, 0, "ok", 0.5}), error = "disk full";
   store_->Write([&, b = backup, fo = forget](Connection& c) {
@@ -91,7 +92,7 @@ TEST_P(RepositoryRoundTripTest, JobsKeepTheirFieldsStatusesAndOrder) {
   EXPECT_EQ(DecodeBackupReport(Job(backup)->result->encoded, "job").bytes, 123);
   EXPECT_EQ(Job(backup)->status, JobStatus::kSucceeded);
   EXPECT_FALSE(Job(forget)->error.has_value());
-  EXPECT_EQ(store_->Read([](Connection& c) { return NextQueuedJob(c); }), segment);
+  EXPECT_EQ(store_->Read([](Connection& c) { return NextQueuedJob(c, "0000000a"); }), segment);
   // Newest first, by map, before an id, at most a limit.
   const auto ids = [&](const std::optional<std::string>& map, std::int64_t before, int limit) {
     std::vector<std::int64_t> out;
@@ -104,14 +105,28 @@ TEST_P(RepositoryRoundTripTest, JobsKeepTheirFieldsStatusesAndOrder) {
   EXPECT_EQ(ids(std::nullopt, 0, 1), std::vector<std::int64_t>{segment});
   // A stop leaves the queued and running jobs failed; one that had recorded its result gets its kind's note.
   const std::int64_t running = store_->Write([&](Connection& c) {
-    const std::int64_t id = InsertJob(c, "backup", std::nullopt, EncodeBackupRequest({"/b/x.sqlite"}), 60);
+    const std::int64_t id = InsertJob(c, "backup", std::nullopt, EncodeBackupRequest({"/b/x.sqlite"}), 60, "0000000a");
     SetJobStatus(c, id, JobStatus::kRunning, "writing", 0.9, &result, nullptr, 61);
     return id;
   });
+  // Another server's queued job, and one written before jobs had a server (migration 0030).
+  const auto [other, nobodys] = store_->Write([](Connection& c) {
+    const std::int64_t o = InsertJob(c, "segment", "home"s, "{}", 62, "0000000b");
+    const std::int64_t n = InsertJob(c, "segment", "home"s, "{}", 63, "0000000b");
+    Statement(c, "UPDATE jobs SET server_id = NULL WHERE id = ?").Bind(1, n).Run();
+    return std::make_pair(o, n);
+  });
+  EXPECT_EQ(store_->Read([](Connection& c) { return UnfinishedJobServers(c); }),
+            (std::vector<std::optional<std::string>>{std::nullopt, "0000000a"s, "0000000b"s}));
   const int failed = store_->Write([](Connection& c) {
-    return MarkUnfinishedJobsFailed(c, "the server stopped", 70, {{"backup", "the copy was written"}});
+    return MarkUnfinishedJobsFailed(c, "0000000a"s, "the server stopped", 70, {{"backup", "the copy was written"}});
   });
   EXPECT_EQ(failed, 2);
+  EXPECT_EQ(Job(other)->status, JobStatus::kQueued) << "another server's job is not this server's to fail";
+  EXPECT_EQ(Job(nobodys)->status, JobStatus::kQueued);
+  EXPECT_EQ(store_->Write([](Connection& c) { return MarkUnfinishedJobsFailed(c, std::nullopt, "gone", 71); }), 1);
+  EXPECT_EQ(Job(nobodys)->status, JobStatus::kFailed);
+  EXPECT_EQ(Job(other)->status, JobStatus::kQueued);
   for (const std::int64_t id : {segment, running}) {
     EXPECT_EQ(Job(id)->status, JobStatus::kFailed);
     EXPECT_NE(Job(id)->error.value_or("").find("the server stopped"), std::string::npos) << id;
@@ -233,7 +248,7 @@ TEST_P(RepositoryRoundTripTest, InstanceClassificationsAreOnePerInstanceOfItsMap
 
 TEST_P(RepositoryRoundTripTest, PerceivedFurnitureRoundTripsWithItsCloud) {
   const std::int64_t table = NewInstance("home", "furniture"), shelf = NewInstance("home", "furniture");
-  const std::int64_t job = store_->Write([](Connection& c) { return InsertJob(c, "segment", "home"s, "{}", 1); });
+  const std::int64_t job = store_->Write([](Connection& c) { return InsertJob(c, "segment", "home"s, "{}", 1, "0000000a"); });
   FurnitureInstanceRecord r;
   r.instance_id = table;
   r.map_id = "home";
