@@ -240,9 +240,16 @@ std::int64_t InstanceVersion(Connection& c, const std::string& map_id) {
   return s.Step() ? s.Int(0) : 0;
 }
 
+namespace {
+// The parts of a map's where-is stamp (map ?1), one scalar subquery each: read alone by ReadWhereStamp and inside
+// ReadWhereInputs' statement.
+constexpr const char* kStampCreated = "(SELECT created_ns FROM maps WHERE id = ?1)";
+constexpr const char* kStampVersion = "(SELECT version FROM map_instance_versions WHERE map_id = ?1)";
+constexpr const char* kStampGraph = "(SELECT MAX(id) FROM furniture_graphs WHERE map_id = ?1)";
+}  // namespace
+
 WhereStamp ReadWhereStamp(Connection& c, const std::string& map_id) {
-  Statement s(c, "SELECT (SELECT created_ns FROM maps WHERE id = ?1), (SELECT version FROM map_instance_versions "
-                 "WHERE map_id = ?1), (SELECT MAX(id) FROM furniture_graphs WHERE map_id = ?1)");
+  Statement s(c, std::string("SELECT ") + kStampCreated + ", " + kStampVersion + ", " + kStampGraph);
   s.Bind(1, map_id);
   WhereStamp out;
   if (!s.Step()) return out;
@@ -312,9 +319,8 @@ WhereInputs ReadWhereInputs(Connection& c, const std::string& map_id, const std:
       " UNION ALL SELECT 1, " + Qualified(kInstanceColumns, "i.") + Nulls(history_columns) + ", " + kLabelColumns +
       " FROM instances AS i LEFT JOIN instance_labels AS l ON l.instance_id = i.id"
       " WHERE i.map_id = ?1 AND i.kind = 'furniture' AND i.status != 'deleted'"
-      " UNION ALL SELECT 2, (SELECT MAX(id) FROM furniture_graphs WHERE map_id = ?1)" + tail_nulls +
-      " UNION ALL SELECT 3, (SELECT version FROM map_instance_versions WHERE map_id = ?1)" + tail_nulls +
-      " UNION ALL SELECT 4, (SELECT created_ns FROM maps WHERE id = ?1)" + tail_nulls;
+      " UNION ALL SELECT 2, " + kStampGraph + tail_nulls + " UNION ALL SELECT 3, " + kStampVersion + tail_nulls +
+      " UNION ALL SELECT 4, " + kStampCreated + tail_nulls;
   Statement s(c, sql);
   s.Bind(1, map_id).Bind(2, label).Bind(3, at_ns);
   WhereInputs out;
@@ -338,8 +344,7 @@ WhereInputs ReadWhereInputs(Connection& c, const std::string& map_id, const std:
       if (added) out.furniture.push_back(ReadInstance(s, false, kInstanceAt));
       instance = &out.furniture[at->second];
     } else if (part == 2) {
-      out.newest_graph_id = OptionalInt(s, kInstanceAt);
-      out.stamp.newest_graph_id = out.newest_graph_id;
+      out.stamp.newest_graph_id = OptionalInt(s, kInstanceAt);
     } else if (part == 3) {
       out.stamp.instance_version = OptionalInt(s, kInstanceAt).value_or(0);
     } else {

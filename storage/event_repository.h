@@ -94,17 +94,14 @@ struct WhereStamp {
   std::optional<std::int64_t> map_created_ns;  // absent: no such map
   std::int64_t instance_version = 0;
   std::optional<std::int64_t> newest_graph_id;
-  bool operator==(const WhereStamp& o) const {
-    return map_created_ns == o.map_created_ns && instance_version == o.instance_version && newest_graph_id == o.newest_graph_id;
-  }
+  bool operator==(const WhereStamp&) const = default;
 };
 // The map's stamp now, in one statement (three index lookups).
 WhereStamp ReadWhereStamp(Connection& c, const std::string& map_id);
 struct WhereInputs {
   std::vector<WhereCandidateRecord> labelled;
   std::vector<InstanceRecord> furniture;
-  std::optional<std::int64_t> newest_graph_id;
-  WhereStamp stamp;  // read by the same statement (one snapshot)
+  WhereStamp stamp;  // read by the same statement (one snapshot); holds the newest graph id
 };
 WhereInputs ReadWhereInputs(Connection& c, const std::string& map_id, const std::string& label, std::int64_t at_ns);
 

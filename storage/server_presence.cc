@@ -1,5 +1,6 @@
 #include "storage/server_presence.h"
 
+#include <charconv>
 #include <cstdio>
 
 #include "schema/error.h"
@@ -19,15 +20,10 @@ std::string IdText(std::uint32_t id) {
 
 // The key of an id this class gave out; -1 for any other text (it names no running server).
 std::int64_t KeyOf(const std::string& id) {
-  if (id.size() != 8) return -1;
   std::uint32_t v = 0;
-  for (const char ch : id) {
-    int d = 0;
-    if (ch >= '0' && ch <= '9') d = ch - '0';
-    else if (ch >= 'a' && ch <= 'f') d = ch - 'a' + 10;
-    else return -1;
-    v = v * 16 + static_cast<std::uint32_t>(d);
-  }
+  const char* end = id.data() + id.size();
+  const auto [at, ec] = std::from_chars(id.data(), end, v, 16);
+  if (id.size() != 8 || ec != std::errc() || at != end || id != IdText(v)) return -1;  // IdText's form only
   return kPresenceSpace | static_cast<std::int64_t>(v);
 }
 

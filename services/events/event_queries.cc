@@ -329,7 +329,7 @@ WhereAnswer EventService::Where(const std::string& map, const WhereRequest& requ
   out.label_source = label_source;
   out.confidence = engine::WhereConfidence(out.label_probability, out.how);
   out.at_ns = at_ns;
-  out.placement = GraphPlacement(map, out.position_m, inputs.newest_graph_id);
+  out.placement = GraphPlacement(map, out.position_m, inputs.stamp.newest_graph_id);
   if (!out.placement && !inputs.furniture.empty()) out.placement = GeometryPlacement(inputs.furniture, out.position_m, viewer);
   const std::string where = out.placement ? out.placement->phrase : engine::MapPositionPhrase(out.position_m);
   out.sentence = engine::WhereSentence(label, where, out.present, at_ns.has_value());

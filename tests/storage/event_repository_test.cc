@@ -225,7 +225,7 @@ TEST_P(EventRepositoryTest, WhereInputsInOneStatementAgreeWithTheSeparateQueries
     EXPECT_EQ(in.furniture[0].position[0], 7.5);
     EXPECT_EQ(in.furniture[0].extent[1], 1.25);
     EXPECT_EQ(in.furniture[0].labels, (Labels{{"table", 0.75}, {"desk", 0.25}}));
-    EXPECT_FALSE(in.newest_graph_id.has_value());
+    EXPECT_FALSE(in.stamp.newest_graph_id.has_value());
   }
   EXPECT_EQ(read_at(50).labelled[0].position, std::nullopt);
   EXPECT_EQ(read_at(1000).labelled[0].position->position[2], 6.0);
@@ -240,12 +240,12 @@ TEST_P(EventRepositoryTest, WhereInputsInOneStatementAgreeWithTheSeparateQueries
   });
   const auto newest = store_->Read([](Connection& c) { return NewestFurnitureGraphId(c, "home"); });
   ASSERT_TRUE(newest.has_value());
-  EXPECT_EQ(read_at(1000).newest_graph_id, newest);
+  EXPECT_EQ(read_at(1000).stamp.newest_graph_id, newest);
   // A map without anything: nothing, and no error (the service tells a missing map apart).
   const WhereInputs none = store_->ReadOneStatement([](Connection& c) { return ReadWhereInputs(c, "nowhere", "keys", 1); });
   EXPECT_TRUE(none.labelled.empty());
   EXPECT_TRUE(none.furniture.empty());
-  EXPECT_FALSE(none.newest_graph_id.has_value());
+  EXPECT_FALSE(none.stamp.newest_graph_id.has_value());
 }
 
 }  // namespace
