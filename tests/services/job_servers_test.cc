@@ -5,6 +5,8 @@
 
 #include <atomic>
 #include <chrono>
+#include <functional>
+#include <memory>
 #include <thread>
 
 #include "services/jobs/job_service.h"
@@ -38,6 +40,12 @@ struct Latch {
   }
 };
 
+// Lets the latch's job end when the test leaves, before the service that runs it joins its worker.
+struct FinishOnExit {
+  Latch& latch;
+  ~FinishOnExit() { latch.finish = true; }
+};
+
 bool WaitFor(const std::function<bool()>& done, double seconds) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
   while (!done() && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -51,12 +59,15 @@ class JobServersTest : public ::testing::TestWithParam<storage::Engine> {
 INSTANTIATE_TEST_SUITE_P(Engines, JobServersTest, testing::BothEngines(), testing::EngineName);
 
 TEST_P(JobServersTest, ARunningServersJobIsLeftAloneAndAGoneServersJobIsMarkedInterrupted) {
+  // The latch outlives the services whose worker runs its job; the guard, destroyed first, lets that job end so
+  // that a service's destructor can join its worker on every path out of the test.
+  Latch latch;
   const auto store_a = testing::OpenStoreWithMaps(db_.location(), {"home"});
   const auto store_b = testing::OpenStoreWithMaps(db_.location(), {});
   JobSettings fast;
   fast.reap_interval_s = 0.05;
   JobService a(*store_a, fast);
-  Latch latch;
+  const FinishOnExit finish_on_exit{latch};
   a.Register(latch.Kind());
   const std::int64_t held = a.Submit("hold", std::nullopt, "{}").job;
   ASSERT_TRUE(WaitFor([&] { return latch.started.load(); }, 30));
@@ -75,7 +86,6 @@ TEST_P(JobServersTest, ARunningServersJobIsLeftAloneAndAGoneServersJobIsMarkedIn
     // One server per file: whatever another service left unfinished is a stopped server's.
     EXPECT_EQ(b.interrupted_at_start(), 2);
     EXPECT_EQ(b.Get(orphan).status, JobStatus::kFailed);
-    latch.finish = true;
     return;
   }
   EXPECT_EQ(b.interrupted_at_start(), 0) << "both servers are running";
