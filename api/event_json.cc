@@ -270,6 +270,11 @@ std::string AnalysisMetricsText(const AnalysisQueueView& all, const AnalysisCoun
   line("anchordb_analysis_skipped_total", "counter", "analyses skipped: their keyframe was deleted", static_cast<double>(c.skipped));
   line("anchordb_analysis_failures_total", "counter", "failed keyframe analysis attempts since start", static_cast<double>(c.failed_attempts));
   line("anchordb_analysis_busy_seconds_total", "counter", "time spent analysing keyframes", c.busy_s);
+  line("anchordb_analysis_frames_refused_total", "counter",
+       "frames and manual keyframes refused (503) because their map's analyses were analysis_max_pending behind",
+       static_cast<double>(c.frames_refused));
+  line("anchordb_analysis_caught_up_total", "counter", "analyses run at the requests' priority (a map analysis_catch_up_at behind)",
+       static_cast<double>(c.caught_up));
   line("anchordb_analysis_computed_in_write_total", "counter",
        "analyses computed inside their write transaction (other writers of the file wait meanwhile)", static_cast<double>(c.computed_in_write));
   return out;

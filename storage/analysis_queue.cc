@@ -25,12 +25,21 @@ void EnqueueAnalysis(Connection& c, const QueuedAnalysis& q) {
       .Bind(1, q.keyframe_id).Bind(2, q.map_id).Bind(3, q.scene_id).Bind(4, q.enqueued_ns).Run();
 }
 
-std::vector<QueuedAnalysis> QueueHeads(Connection& c) {
-  Statement s(c, std::string("SELECT ") + kQueueColumns + " FROM keyframe_analysis_queue WHERE keyframe_id IN "
-                 "(SELECT min(keyframe_id) FROM keyframe_analysis_queue WHERE failed = 0 GROUP BY map_id) ORDER BY keyframe_id");
-  std::vector<QueuedAnalysis> out;
-  while (s.Step()) out.push_back(RowOf(s));
+std::vector<QueueHead> QueueHeads(Connection& c) {
+  Statement s(c, "SELECT q.keyframe_id, q.map_id, q.scene_id, q.enqueued_ns, q.attempts, q.next_attempt_ns, q.last_error, "
+                 "q.failed, h.pending FROM keyframe_analysis_queue q JOIN (SELECT min(keyframe_id) AS head, count(*) AS "
+                 "pending FROM keyframe_analysis_queue WHERE failed = 0 GROUP BY map_id) h ON q.keyframe_id = h.head "
+                 "ORDER BY q.keyframe_id");
+  std::vector<QueueHead> out;
+  while (s.Step()) out.push_back({RowOf(s), s.Int(8)});
   return out;
+}
+
+std::int64_t PendingAnalyses(Connection& c, const std::string& map) {
+  Statement s(c, "SELECT count(*) FROM keyframe_analysis_queue WHERE map_id = ? AND failed = 0");
+  s.Bind(1, map);
+  s.Step();
+  return s.Int(0);
 }
 
 std::optional<QueuedAnalysis> FindQueuedAnalysis(Connection& c, std::int64_t keyframe_id) {

@@ -24,9 +24,16 @@ struct QueuedAnalysis {
 };
 
 void EnqueueAnalysis(Connection& c, const QueuedAnalysis& row);
-// The head of every map's queue (its oldest keyframe not given up), oldest keyframe first: the worker's candidates.
-// The head of a map whose next_attempt_ns is in the future blocks that map (analyses of one map run in order).
-std::vector<QueuedAnalysis> QueueHeads(Connection& c);
+// The head of a map's queue (its oldest keyframe not given up) and how many of the map's rows are not given up.
+struct QueueHead {
+  QueuedAnalysis row;
+  std::int64_t map_pending = 0;
+};
+// The head of every map's queue, oldest keyframe first: the worker's candidates. The head of a map whose
+// next_attempt_ns is in the future blocks that map (analyses of one map run in order).
+std::vector<QueueHead> QueueHeads(Connection& c);
+// The rows of `map` not given up (queued or running).
+std::int64_t PendingAnalyses(Connection& c, const std::string& map);
 std::optional<QueuedAnalysis> FindQueuedAnalysis(Connection& c, std::int64_t keyframe_id);
 // Deletes the row; false when it was gone (its keyframe was deleted).
 bool DequeueAnalysis(Connection& c, std::int64_t keyframe_id);

@@ -36,7 +36,12 @@ AnalysisQueue::~AnalysisQueue() { Stop(); }
 void AnalysisQueue::Start() {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!workers_.empty()) return;
-  for (int i = 0; i < settings_.threads; ++i) workers_.emplace_back([this] { Worker(); });
+  // Catch-up workers only when the others run below the requests' priority; they keep this thread's niceness.
+  const bool catch_up = settings_.nice > 0 && settings_.backlog.catch_up_at > 0;
+  for (int i = 0; i < settings_.threads; ++i) {
+    workers_.emplace_back([this, catch_up] { Worker(catch_up ? Role::kBackground : Role::kAny); });
+    if (catch_up) workers_.emplace_back([this] { Worker(Role::kCatchUp); });
+  }
 }
 
 void AnalysisQueue::Stop() {
@@ -50,6 +55,25 @@ void AnalysisQueue::Stop() {
   for (auto& t : workers) t.join();
   std::lock_guard<std::mutex> lock(mutex_);
   stopping_ = false;
+}
+
+void AnalysisQueue::Admit(const std::string& map) {
+  if (settings_.backlog.max_pending <= 0) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (workers_.empty()) return;  // in-process callers run the queue themselves (Drain, Await)
+  }
+  const std::int64_t pending = store_.ReadOneStatement([&](storage::Connection& c) { return storage::PendingAnalyses(c, map); });
+  if (!engine::RefusesFrames(settings_.backlog, pending)) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++counters_.frames_refused;
+  }
+  throw Error(ErrorCode::kUnavailable,
+              "map '" + map + "' has " + std::to_string(pending) + " keyframe analyses pending (analysis_max_pending " +
+                  std::to_string(settings_.backlog.max_pending) +
+                  "): its frames and keyframes are refused until they catch up; retry after Retry-After",
+              "analysis");
 }
 
 void AnalysisQueue::Enqueue(storage::Connection& c, const QueuedKeyframe& k) {
@@ -76,20 +100,22 @@ std::int64_t AnalysisQueue::BackoffNs(int attempts) const {
 }
 
 std::optional<storage::QueuedAnalysis> AnalysisQueue::Take(bool ignore_backoff, const std::set<std::int64_t>& exclude,
-                                                           std::uint64_t* seen) {
+                                                           std::uint64_t* seen, Role role) {
   for (;;) {
     std::uint64_t before;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       before = finished_;
     }
-    const std::vector<storage::QueuedAnalysis> heads = store_.Read([](storage::Connection& c) { return storage::QueueHeads(c); });
+    const std::vector<storage::QueueHead> heads = store_.Read([](storage::Connection& c) { return storage::QueueHeads(c); });
     std::lock_guard<std::mutex> lock(mutex_);
     if (finished_ != before) continue;  // an analysis finished meanwhile: the heads may be stale
     if (seen) *seen = generation_;
     const std::int64_t now = clock_.NowNs();
-    for (const storage::QueuedAnalysis& h : heads) {
+    for (const auto& [h, map_pending] : heads) {
       if (running_maps_.count(h.map_id) || exclude.count(h.keyframe_id)) continue;
+      const bool behind = engine::NeedsCatchUp(settings_.backlog, map_pending);
+      if ((role == Role::kBackground && behind) || (role == Role::kCatchUp && !behind)) continue;
       const auto memory = not_before_ns_.find(h.keyframe_id);
       const std::int64_t due = std::max(h.next_attempt_ns, memory == not_before_ns_.end() ? 0 : memory->second);
       if (!ignore_backoff && due > now) continue;  // this map waits for its head's retry
@@ -168,9 +194,11 @@ void AnalysisQueue::Finish(const storage::QueuedAnalysis& row, KeyframeAnalysisS
   changed_.notify_all();
 }
 
-void AnalysisQueue::Worker() {
+void AnalysisQueue::Worker(Role role) {
   // Linux applies a thread's niceness to that thread alone (its tid as the "process"); failing to lower it is harmless.
-  if (settings_.nice > 0) (void)setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), settings_.nice);
+  if (settings_.nice > 0 && role != Role::kCatchUp) {
+    (void)setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), settings_.nice);
+  }
   for (;;) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -179,7 +207,11 @@ void AnalysisQueue::Worker() {
     std::uint64_t seen = 0;
     bool unreadable = false;
     try {
-      if (auto row = Take(false, {}, &seen)) {
+      if (auto row = Take(false, {}, &seen, role)) {
+        if (role == Role::kCatchUp) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          ++counters_.caught_up;
+        }
         Run(*row);
         continue;
       }

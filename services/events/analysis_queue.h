@@ -16,7 +16,11 @@
 // - A keyframe deleted before its analysis (forgetting, its scene or map deleted) takes its row with it; the analysis
 //   is skipped.
 // - The workers run at a lower CPU priority (`nice`): on a busy machine the requests go first and the queue grows,
-//   to be worked off when the load drops.
+//   to be worked off when the load drops. A map's backlog is bounded (`backlog`, engine/events/analysis_backlog.h):
+//   from `catch_up_at` pending analyses on, its analyses are run by catch-up workers (as many as `threads`) at the
+//   requests' priority, and from `max_pending` on, its new frames and manual keyframes are refused (Admit: 503 with
+//   Retry-After, nothing stored; counted in /metrics). Only a queue with started workers refuses: in-process callers
+//   run the queue themselves.
 // - Await waits (at most `wait_max_s`) for one keyframe's analysis; without started workers it runs the queue in the
 //   caller first. Drain runs every due analysis in the caller, for deterministic in-process callers (tests,
 //   evaluations). The server starts the workers (Start); in-process users that do not, run analyses only through
@@ -33,6 +37,7 @@
 #include <thread>
 #include <vector>
 
+#include "engine/events/analysis_backlog.h"
 #include "schema/clock.h"
 #include "services/events/event_service.h"
 #include "services/scene/keyframe_listener.h"
@@ -48,6 +53,7 @@ struct AnalysisQueueSettings {
   double retry_max_s = 60.0;     // longest backoff [s]
   int max_attempts = 8;          // non-transient failures before an analysis is given up
   int nice = 10;                 // the workers' scheduling niceness (0: as the request threads; 19: lowest)
+  engine::AnalysisBacklogLimits backlog;  // per map: catch-up at request priority, then refused frames
 };
 
 // One map's queue (or all maps'), for GET /v1/maps/{map}/analysis.
@@ -65,6 +71,8 @@ struct AnalysisCounters {
   std::int64_t enqueued = 0, done = 0, skipped = 0, failed_attempts = 0, given_up = 0;
   double busy_s = 0.0;  // time spent analysing [s]
   std::int64_t computed_in_write = 0;  // analyses computed inside their write transaction (EventService)
+  std::int64_t frames_refused = 0;     // frames and manual keyframes refused for a map's backlog (Admit)
+  std::int64_t caught_up = 0;          // analyses run by the catch-up workers (at request priority)
 };
 
 class AnalysisQueue : public KeyframeListener {
@@ -79,6 +87,7 @@ class AnalysisQueue : public KeyframeListener {
   void Start();
   void Stop();
 
+  void Admit(const std::string& map) override;
   void Enqueue(storage::Connection& c, const QueuedKeyframe& keyframe) override;
   void Enqueued(const std::string& map) override;
   KeyframeAnalysisStatus Await(std::int64_t keyframe_id) override;
@@ -96,12 +105,16 @@ class AnalysisQueue : public KeyframeListener {
   void SetRunHookForTesting(std::function<void(const storage::QueuedAnalysis&)> hook) { run_hook_ = std::move(hook); }
 
  private:
-  // The oldest due row of a map not running now (the head of its map's queue, not in `exclude`), marked running;
-  // nullopt: none. `seen`: the generation the answer is current for.
-  std::optional<storage::QueuedAnalysis> Take(bool ignore_backoff, const std::set<std::int64_t>& exclude, std::uint64_t* seen);
+  // Which maps a worker takes: any (in-process callers, or no catch-up), those below the catch-up threshold (the
+  // workers at `nice`), those at or above it (the catch-up workers, at the requests' priority).
+  enum class Role { kAny, kBackground, kCatchUp };
+  // The oldest due row of a map not running now (the head of its map's queue, not in `exclude`, of a map `role`
+  // takes), marked running; nullopt: none. `seen`: the generation the answer is current for.
+  std::optional<storage::QueuedAnalysis> Take(bool ignore_backoff, const std::set<std::int64_t>& exclude, std::uint64_t* seen,
+                                              Role role = Role::kAny);
   void Run(const storage::QueuedAnalysis& row);
   void Finish(const storage::QueuedAnalysis& row, KeyframeAnalysisStatus status);
-  void Worker();
+  void Worker(Role role);
   std::int64_t BackoffNs(int attempts) const;
 
   storage::Store& store_;

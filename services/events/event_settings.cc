@@ -44,6 +44,11 @@ void BindAnalysisQueueSettings(SettingsBinder& b, AnalysisQueueSettings& a) {
          0.001, 86400.0);
   b.Bind("analysis_nice", "CPU niceness of the analysis workers (0: as the request threads; higher: requests go first)",
          &a.nice, 0, 19);
+  b.Bind("analysis_catch_up_at", "pending keyframe analyses of a map from which they run at the requests' CPU priority "
+                                 "(0: never)", &a.backlog.catch_up_at, 0, 1000000);
+  b.Bind("analysis_max_pending", "pending keyframe analyses of a map from which its new frames and manual keyframes are "
+                                 "refused with 503 and Retry-After until they catch up (0: never)",
+         &a.backlog.max_pending, 0, 1000000);
   b.Bind("analysis_max_attempts", "attempts before a keyframe analysis failing with a non-transient error is given up",
          &a.max_attempts, 1, 1000000);
 }

@@ -25,6 +25,10 @@ void KeyframeExtraction::Enqueue(storage::Connection& c, const QueuedKeyframe& k
   pending_.emplace_back(keyframe.map, keyframe.keyframe_id);
 }
 
+void KeyframeExtraction::Admit(const std::string& map) {
+  if (next_) next_->Admit(map);
+}
+
 void KeyframeExtraction::Enqueued(const std::string& map) {
   if (next_) next_->Enqueued(map);
   if (!enabled_) return;

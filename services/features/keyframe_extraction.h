@@ -27,6 +27,7 @@ class KeyframeExtraction final : public KeyframeListener {
   KeyframeExtraction& operator=(const KeyframeExtraction&) = delete;
 
   void Enqueue(storage::Connection& c, const QueuedKeyframe& keyframe) override;
+  void Admit(const std::string& map) override;
   void Enqueued(const std::string& map) override;
   KeyframeAnalysisStatus Await(std::int64_t keyframe_id) override;
 

@@ -38,6 +38,8 @@ void OctomapKeyframeFeed::Enqueue(storage::Connection& c, const QueuedKeyframe& 
   staged_[keyframe.map] = keyframe.keyframe_id;
 }
 
+void OctomapKeyframeFeed::Admit(const std::string& map) { next_.Admit(map); }
+
 void OctomapKeyframeFeed::Enqueued(const std::string& map) {
   next_.Enqueued(map);
   {

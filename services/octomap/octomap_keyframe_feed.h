@@ -25,6 +25,7 @@ class OctomapKeyframeFeed : public KeyframeListener {
   OctomapKeyframeFeed& operator=(const OctomapKeyframeFeed&) = delete;
 
   void Enqueue(storage::Connection& c, const QueuedKeyframe& keyframe) override;
+  void Admit(const std::string& map) override;
   void Enqueued(const std::string& map) override;
   KeyframeAnalysisStatus Await(std::int64_t keyframe_id) override;
 

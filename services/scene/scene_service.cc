@@ -239,6 +239,7 @@ FrameResult SceneService::AddFrameLocked(const std::string& map, std::int64_t id
   auto [model, lock] = Lock(map, id);
   Model& m = *model;
   RequireObserving(m.record, "", "; open a new one");
+  if (listener_) listener_->Admit(map);  // a map whose analyses are far behind takes no frame (nothing changed yet)
   auto [depth, dynamic] = DecodeFrame(in, m.K);  // nothing is journalled or changed before the frame is valid
   const double scale = in.depth_scale ? CheckDepthScale(*in.depth_scale, "depth_scale") : m.params.depth_scale;
   const std::int64_t stamp = in.stamp_ns.value_or(clock_.NowNs());
@@ -263,6 +264,7 @@ KeyframeResult SceneService::Keyframe(const std::string& map, std::int64_t id, b
   {
     auto [model, lock] = Lock(map, id);
     RequireObserving(model->record);
+    if (listener_) listener_->Admit(map);
     const std::int64_t stamp = model->record.last_frame_ns.value_or(clock_.NowNs());
     stored = StoreKeyframe(*model, KeyframeKind::kManual, stamp);
   }

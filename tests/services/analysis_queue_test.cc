@@ -12,7 +12,12 @@
 #include <cmath>
 #include <cstring>
 #include <future>
+#include <functional>
 #include <stdexcept>
+
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 
 #include "services/scene/scene_service.h"
 #include "storage/fault_vfs.h"
@@ -288,6 +293,87 @@ TEST_F(AnalysisQueueTest, TheAnalysisReadsTheKeyframesImagesAsTheModelHadThem) {
   for (std::size_t i = 0; i < mm.size(); ++i) mm[i] = static_cast<std::uint16_t>(std::clamp(std::lround(metres[i] * 1000.0f), 0L, 65535L));
   EXPECT_EQ(notice->background_mm, mm);
   EXPECT_FALSE(store_->Read([&](storage::Connection& c) { return LoadKeyframeNotice(c, "a", k + 100); }));
+}
+
+
+// Back-pressure (engine/events/analysis_backlog.h): with max_pending analyses of a map pending, its frames and manual
+// keyframes are refused with kUnavailable and store nothing; another map and a close are not refused; once the
+// analyses catch up the map takes frames again.
+TEST_F(AnalysisQueueTest, AMapFarBehindRefusesFramesUntilItsAnalysesCatchUp) {
+  Close();
+  AnalysisQueueSettings q;
+  q.threads = 1;
+  q.backlog = {0, 3};  // no catch-up workers: one worker, held below
+  Open(q);
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  queue_->SetRunHookForTesting([&](const storage::QueuedAnalysis&) { released.wait(); });
+  const std::int64_t s = OpenScene("a"), s2 = OpenScene("a");
+  queue_->Start();
+  AddFrame("a", s, Depth(false), kT0 + 100);  // the begin keyframe: pending 1 (taken, held)
+  AddFrame("a", s2, Depth(false), kT0 + 100);  // the second model's begin keyframe: pending 2
+  AddFrame("a", s, Depth(true), kT0 + 200);
+  scenes_->Keyframe("a", s);  // pending 3: at the bound
+  const SceneInfo before = scenes_->Get("a", s);
+  ASSERT_TRUE(before.state);
+  const std::int64_t frames = before.state->frames;
+  const auto refused = [](const std::function<void()>& call) {
+    try {
+      call();
+    } catch (const Error& e) {
+      return e.code() == ErrorCode::kUnavailable && std::string(e.what()).find("analysis_max_pending") != std::string::npos;
+    }
+    return false;
+  };
+  EXPECT_TRUE(refused([&] { AddFrame("a", s, Depth(true), kT0 + 300); }));
+  EXPECT_TRUE(refused([&] { scenes_->Keyframe("a", s); }));
+  const SceneInfo after = scenes_->Get("a", s);
+  EXPECT_EQ(after.state->frames, frames) << "a refused frame changed the model";
+  EXPECT_EQ(after.keyframes.size(), before.keyframes.size()) << "a refused keyframe was stored";
+  EXPECT_EQ(queue_->View("a").pending, 3) << "a refused keyframe was stored";
+  EXPECT_EQ(queue_->counters().frames_refused, 2);
+  const std::int64_t other = OpenScene("b");
+  EXPECT_EQ(AddFrame("b", other, Depth(false), kT0 + 100).frames, 1) << "another map's frames are not held back";
+  const CloseResult closed = scenes_->Close("a", s2);  // a close is never refused: its end keyframe makes 4
+  ASSERT_TRUE(closed.keyframe);
+  EXPECT_EQ(queue_->View("a").pending, 4);
+
+  release.set_value();
+  EXPECT_EQ(queue_->Await(closed.keyframe->id).state, AnalysisState::kDone);
+  EXPECT_EQ(queue_->View("a").pending, 0);
+  EXPECT_EQ(AddFrame("a", s, Depth(true), kT0 + 400).frames, frames + 1) << "caught up: frames are taken again";
+  EXPECT_EQ(queue_->counters().frames_refused, 2);
+}
+
+// From catch_up_at pending analyses on, a map's analyses run at the requests' priority (the catch-up workers keep
+// the niceness of the thread that started them); below it, at `nice`.
+TEST_F(AnalysisQueueTest, AMapBehindIsAnalysedAtTheRequestsPriority) {
+  Close();
+  AnalysisQueueSettings q;
+  q.threads = 1;
+  q.nice = 10;
+  q.backlog = {2, 0};
+  Open(q);
+  const int request_nice = getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)));
+  std::mutex m;
+  std::vector<int> nice_of_run;
+  queue_->SetRunHookForTesting([&](const storage::QueuedAnalysis&) {
+    std::lock_guard<std::mutex> lock(m);
+    nice_of_run.push_back(getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid))));
+  });
+  const std::int64_t s = OpenScene("a");
+  AddFrame("a", s, Depth(false), kT0 + 100);
+  AddFrame("a", s, Depth(true), kT0 + 200);
+  scenes_->Keyframe("a", s);
+  const std::int64_t last = scenes_->Keyframe("a", s).keyframe.id;  // 3 pending before any worker runs
+  queue_->Start();
+  EXPECT_EQ(queue_->Await(last).state, AnalysisState::kDone);
+  std::lock_guard<std::mutex> lock(m);
+  ASSERT_EQ(nice_of_run.size(), 3u);
+  EXPECT_EQ(nice_of_run[0], request_nice) << "3 pending: caught up";
+  EXPECT_EQ(nice_of_run[1], request_nice) << "2 pending: caught up";
+  EXPECT_GT(nice_of_run[2], request_nice) << "1 pending: in the background";
+  EXPECT_EQ(queue_->counters().caught_up, 2);
 }
 
 }  // namespace
