@@ -38,6 +38,7 @@ void AnalysisQueue::Start() {
   if (!workers_.empty()) return;
   // Catch-up workers only when the others run below the requests' priority; they keep this thread's niceness.
   const bool catch_up = settings_.nice > 0 && settings_.backlog.catch_up_at > 0;
+  request_nice_ = getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)));
   for (int i = 0; i < settings_.threads; ++i) {
     workers_.emplace_back([this, catch_up] { Worker(catch_up ? Role::kBackground : Role::kAny); });
     if (catch_up) workers_.emplace_back([this] { Worker(Role::kCatchUp); });
@@ -85,13 +86,31 @@ void AnalysisQueue::Enqueue(storage::Connection& c, const QueuedKeyframe& k) {
   storage::EnqueueAnalysis(c, row);
 }
 
-void AnalysisQueue::Enqueued(const std::string&) {
+void AnalysisQueue::Enqueued(const std::string& map) {
+  bool nice_run;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     ++generation_;
     ++counters_.enqueued;
+    nice_run = nice_runs_.count(map) > 0;
   }
   changed_.notify_all();
+  if (nice_run) RaiseIfBehind(map);
+}
+
+void AnalysisQueue::RaiseIfBehind(const std::string& map) {
+  std::int64_t pending = 0;
+  try {
+    pending = store_.ReadOneStatement([&](storage::Connection& c) { return storage::PendingAnalyses(c, map); });
+  } catch (const std::exception&) {
+    return;  // the store fails now: the running analysis keeps its priority
+  }
+  if (!engine::NeedsCatchUp(settings_.backlog, pending)) return;
+  std::lock_guard<std::mutex> lock(mutex_);  // the worker leaves nice_runs_ under this lock before it renices itself
+  const auto run = nice_runs_.find(map);
+  if (run == nice_runs_.end()) return;
+  if (setpriority(PRIO_PROCESS, static_cast<id_t>(run->second), request_nice_) == 0) ++counters_.raised;
+  nice_runs_.erase(run);  // raised once (or not permitted: not tried again)
 }
 
 std::int64_t AnalysisQueue::BackoffNs(int attempts) const {
@@ -195,24 +214,29 @@ void AnalysisQueue::Finish(const storage::QueuedAnalysis& row, KeyframeAnalysisS
 }
 
 void AnalysisQueue::Worker(Role role) {
-  // Linux applies a thread's niceness to that thread alone (its tid as the "process"); failing to lower it is harmless.
-  if (settings_.nice > 0 && role != Role::kCatchUp) {
-    (void)setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), settings_.nice);
-  }
+  const std::int64_t tid = syscall(SYS_gettid);
   for (;;) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (stopping_) return;
     }
+    // Linux applies a thread's niceness to that thread alone (its tid as the "process"), and raising it needs no
+    // privilege: set again before each analysis, after a RaiseIfBehind. Failing to set it is harmless.
+    if (settings_.nice > 0 && role != Role::kCatchUp) (void)setpriority(PRIO_PROCESS, static_cast<id_t>(tid), settings_.nice);
     std::uint64_t seen = 0;
     bool unreadable = false;
     try {
       if (auto row = Take(false, {}, &seen, role)) {
-        if (role == Role::kCatchUp) {
+        {
           std::lock_guard<std::mutex> lock(mutex_);
-          ++counters_.caught_up;
+          if (role == Role::kCatchUp) ++counters_.caught_up;
+          if (role == Role::kBackground) nice_runs_[row->map_id] = tid;
         }
         Run(*row);
+        if (role == Role::kBackground) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          nice_runs_.erase(row->map_id);
+        }
         continue;
       }
     } catch (const std::exception&) {

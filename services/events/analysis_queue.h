@@ -18,7 +18,8 @@
 // - The workers run at a lower CPU priority (`nice`): on a busy machine the requests go first and the queue grows,
 //   to be worked off when the load drops. A map's backlog is bounded (`backlog`, engine/events/analysis_backlog.h):
 //   from `catch_up_at` pending analyses on, its analyses are run by catch-up workers (as many as `threads`) at the
-//   requests' priority, and from `max_pending` on, its new frames and manual keyframes are refused (Admit: 503 with
+//   requests' priority (the analysis a nice worker is running then is raised to it too where the process may lower
+//   a niceness: root, CAP_SYS_NICE or RLIMIT_NICE; elsewhere it ends at its priority), and from `max_pending` on, its new frames and manual keyframes are refused (Admit: 503 with
 //   Retry-After, nothing stored; counted in /metrics). Only a queue with started workers refuses: in-process callers
 //   run the queue themselves.
 // - Await waits (at most `wait_max_s`) for one keyframe's analysis; without started workers it runs the queue in the
@@ -73,6 +74,7 @@ struct AnalysisCounters {
   std::int64_t computed_in_write = 0;  // analyses computed inside their write transaction (EventService)
   std::int64_t frames_refused = 0;     // frames and manual keyframes refused for a map's backlog (Admit)
   std::int64_t caught_up = 0;          // analyses run by the catch-up workers (at request priority)
+  std::int64_t raised = 0;             // running analyses of a nice worker raised to request priority
 };
 
 class AnalysisQueue : public KeyframeListener {
@@ -115,6 +117,9 @@ class AnalysisQueue : public KeyframeListener {
   void Run(const storage::QueuedAnalysis& row);
   void Finish(const storage::QueuedAnalysis& row, KeyframeAnalysisStatus status);
   void Worker(Role role);
+  // A map `catch_up_at` behind whose analysis a nice worker runs: that thread is raised to request priority (when the
+  // process may).
+  void RaiseIfBehind(const std::string& map);
   std::int64_t BackoffNs(int attempts) const;
 
   storage::Store& store_;
@@ -129,6 +134,8 @@ class AnalysisQueue : public KeyframeListener {
   std::uint64_t finished_ = 0;       // increases with every finished attempt
   bool stopping_ = false;
   std::set<std::string> running_maps_;
+  std::map<std::string, std::int64_t> nice_runs_;  // map -> thread id of the nice worker running its analysis
+  int request_nice_ = 0;                           // the niceness of the thread that started the workers
   std::map<std::int64_t, std::int64_t> not_before_ns_;  // backoff kept in memory when the failure could not be written
   // Outcomes of recent analyses, for Await (bounded: the oldest are dropped).
   std::map<std::int64_t, KeyframeAnalysisStatus> outcomes_;

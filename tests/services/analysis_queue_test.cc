@@ -14,6 +14,7 @@
 #include <future>
 #include <functional>
 #include <stdexcept>
+#include <thread>
 
 #include <sys/resource.h>
 #include <sys/syscall.h>
@@ -374,6 +375,58 @@ TEST_F(AnalysisQueueTest, AMapBehindIsAnalysedAtTheRequestsPriority) {
   EXPECT_EQ(nice_of_run[1], request_nice) << "2 pending: caught up";
   EXPECT_GT(nice_of_run[2], request_nice) << "1 pending: in the background";
   EXPECT_EQ(queue_->counters().caught_up, 2);
+}
+
+// Whether this process may lower a thread's niceness (root, CAP_SYS_NICE or RLIMIT_NICE): a thread niced to 10 and
+// set back.
+bool MayLowerNiceness() {
+  bool may = false;
+  std::thread([&] {
+    const auto tid = static_cast<id_t>(syscall(SYS_gettid));
+    const int before = getpriority(PRIO_PROCESS, tid);
+    may = setpriority(PRIO_PROCESS, tid, before + 10) == 0 && setpriority(PRIO_PROCESS, tid, before) == 0;
+  }).join();
+  return may;
+}
+
+// A nice worker's analysis that is running when its map falls catch_up_at behind is raised to the requests' priority
+// where the process may lower a niceness; elsewhere it ends at its own.
+TEST_F(AnalysisQueueTest, TheRunningAnalysisOfAMapFallingBehindIsRaisedWherePermitted) {
+  Close();
+  AnalysisQueueSettings q;
+  q.threads = 1;
+  q.nice = 10;
+  q.backlog = {2, 0};
+  Open(q);
+  const int request_nice = getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)));
+  std::promise<void> entered, release;
+  std::shared_future<void> released = release.get_future().share();
+  std::atomic<bool> first{true};
+  std::atomic<int> first_nice_at_start{-100}, first_nice_at_end{-100};
+  queue_->SetRunHookForTesting([&](const storage::QueuedAnalysis&) {
+    if (!first.exchange(false)) return;
+    const auto tid = static_cast<id_t>(syscall(SYS_gettid));
+    first_nice_at_start = getpriority(PRIO_PROCESS, tid);
+    entered.set_value();
+    released.wait();
+    first_nice_at_end = getpriority(PRIO_PROCESS, tid);
+  });
+  const std::int64_t s = OpenScene("a");
+  queue_->Start();
+  AddFrame("a", s, Depth(false), kT0 + 100);  // pending 1: taken by the nice worker, held
+  ASSERT_EQ(entered.get_future().wait_for(std::chrono::seconds(60)), std::future_status::ready);
+  AddFrame("a", s, Depth(true), kT0 + 200);
+  const std::int64_t last = scenes_->Keyframe("a", s).keyframe.id;  // pending 2: behind
+  release.set_value();
+  EXPECT_EQ(queue_->Await(last).state, AnalysisState::kDone);
+  EXPECT_GT(first_nice_at_start.load(), request_nice);
+  if (MayLowerNiceness()) {
+    EXPECT_EQ(first_nice_at_end.load(), request_nice) << "raised while it ran";
+    EXPECT_EQ(queue_->counters().raised, 1);
+  } else {
+    EXPECT_EQ(first_nice_at_end.load(), first_nice_at_start.load()) << "not permitted: it ends at its priority";
+    EXPECT_EQ(queue_->counters().raised, 0);
+  }
 }
 
 }  // namespace
