@@ -275,6 +275,8 @@ std::string AnalysisMetricsText(const AnalysisQueueView& all, const AnalysisCoun
        static_cast<double>(c.frames_refused));
   line("anchordb_analysis_caught_up_total", "counter", "analyses run at the requests' priority (a map analysis_catch_up_at behind)",
        static_cast<double>(c.caught_up));
+  line("anchordb_analysis_raised_total", "counter", "running analyses raised to the requests' priority when their map fell behind",
+       static_cast<double>(c.raised));
   line("anchordb_analysis_computed_in_write_total", "counter",
        "analyses computed inside their write transaction (other writers of the file wait meanwhile)", static_cast<double>(c.computed_in_write));
   return out;

@@ -25,6 +25,36 @@ import cluster_support  # noqa: E402
 from cluster_support import poll  # noqa: E402
 
 
+def kill_rounds(cluster, writers, kills, rows):
+    """`kills` rounds on a running cluster with `writers` writing: kill -9 of the leader's postmaster and Patroni, the
+    seconds to the first acknowledged write after it, the promoted leader, the killed node started again as a standby
+    and the cluster healthy before the next round. Prints a line per round and appends it to `rows` (kept when a
+    later round fails: AssertionError from poll when a round does not get there); returns `rows`."""
+    print("%4s %-6s %-6s %9s %8s %8s %s" % ("kill", "killed", "leader", "resume_s", "rejoin_s", "acked", "answers"),
+          flush=True)
+    for k in range(1, kills + 1):
+        poll(cluster.healthy, 120, "a healthy cluster before kill %d" % k, 0.2)
+        before = writers.count_acked()
+        poll(lambda: writers.count_acked() >= before + 20, 60, "20 writes before kill %d" % k)
+        killed, t_kill, t_gone = cluster.kill_leader()
+        resume = poll(lambda: writers.first_success_after(t_kill, t_gone), 120, "a write after kill %d" % k, 0.05)
+        # The leader the DCS names once writes flow again: the promoted standby (a killed leader's key lives
+        # on for the TTL, so the killed node is started again only now).
+        leader = poll(lambda: (lambda m: m if m and m["name"] != "node%d" % killed else None)(cluster.leader()),
+                      60, "a new leader after kill %d" % k)
+        t_rejoin = time.monotonic()
+        cluster.start_node(killed)
+        poll(cluster.healthy, 120, "a healthy cluster after the rejoin of node%d" % killed, 0.2)
+        rejoin = time.monotonic() - t_rejoin
+        answers = writers.statuses_after(t_kill)
+        rows.append({"kill": k, "killed": "node%d" % killed, "new_leader": leader["name"],
+                     "resume_s": round(resume, 2), "rejoin_s": round(rejoin, 2),
+                     "answers_since_kill": {str(s): n for s, n in answers.items()}})
+        print("%4d %-6s %-6s %9.2f %8.2f %8d %s" % (k, "node%d" % killed, leader["name"], resume, rejoin,
+                                                   writers.count_acked(), answers), flush=True)
+    return rows
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--kills", type=int, default=20)
@@ -41,28 +71,7 @@ def main():
     writers = None
     try:
         writers = cluster_support.MapWriters(cluster.info["anchordb"], threads=args.writers, prefix="k")
-        print("%4s %-6s %-6s %9s %8s %8s %s" % ("kill", "killed", "leader", "resume_s", "rejoin_s", "acked", "answers"),
-              flush=True)
-        for k in range(1, args.kills + 1):
-            poll(cluster.healthy, 120, "a healthy cluster before kill %d" % k, 0.2)
-            before = writers.count_acked()
-            poll(lambda: writers.count_acked() >= before + 20, 60, "20 writes before kill %d" % k)
-            killed, t_kill, t_gone = cluster.kill_leader()
-            resume = poll(lambda: writers.first_success_after(t_kill, t_gone), 120, "a write after kill %d" % k, 0.05)
-            # The leader the DCS names once writes flow again: the promoted standby (a killed leader's key lives
-            # on for the TTL, so the killed node is started again only now).
-            leader = poll(lambda: (lambda m: m if m and m["name"] != "node%d" % killed else None)(cluster.leader()),
-                          60, "a new leader after kill %d" % k)
-            t_rejoin = time.monotonic()
-            cluster.start_node(killed)
-            poll(cluster.healthy, 120, "a healthy cluster after the rejoin of node%d" % killed, 0.2)
-            rejoin = time.monotonic() - t_rejoin
-            answers = writers.statuses_after(t_kill)
-            rows.append({"kill": k, "killed": "node%d" % killed, "new_leader": leader["name"],
-                         "resume_s": round(resume, 2), "rejoin_s": round(rejoin, 2),
-                         "answers_since_kill": {str(s): n for s, n in answers.items()}})
-            print("%4d %-6s %-6s %9.2f %8.2f %8d %s" % (k, "node%d" % killed, leader["name"], resume, rejoin,
-                                                       writers.count_acked(), answers), flush=True)
+        kill_rounds(cluster, writers, args.kills, rows)
     except AssertionError as e:
         failure = str(e)
         print("campaign stopped: " + failure, flush=True)
