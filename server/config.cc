@@ -35,6 +35,8 @@ void BindServerSettings(SettingsBinder& b, ServerOptions& o) {
                                "with Retry-After at once. Below `threads` (default 24 of 32), so that reads always find "
                                "a worker while writes wait for the database writer", &o.max_pending_writes, 1, 1e6);
   b.Bind("log_requests", "log one line per request to stderr", &o.log_requests);
+  b.Bind("malloc_arenas", "glibc malloc arenas of the server (0: twice the cores, at least 4); fewer arenas keep the "
+                          "resident memory of a long run flat", &o.malloc_arenas, 0, 1024);
   b.Bind("grounding_knowledge", "JSON file {categories, frame_prior} replacing the built-in grounding tables "
                                 "(engine/grounding/*.json); empty = built in", &o.grounding_knowledge);
 }

@@ -35,6 +35,9 @@ struct ServerOptions {
   int max_pending_writes = 24;
   bool log_requests = true;
   std::string grounding_knowledge;  // file replacing the built-in grounding tables; empty = built in
+  // glibc malloc arenas of the server process; 0: twice the cores, at least 4 (glibc's own default is 8 per core, and
+  // under many threads each arena keeps its own high-water mark, so resident memory creeps up for minutes).
+  int malloc_arenas = 0;
 };
 
 struct Config {
