@@ -38,6 +38,19 @@ def keyframe_ids(db_path, map_id):
     return {r[0] for r in db_rows(db_path, "SELECT id FROM keyframes WHERE map_id = ?", (map_id,))}
 
 
+def post_taken(client, path, body=None):
+    """POSTs until the server takes it, as a robot does: a map whose keyframe analyses are analysis_max_pending behind
+    answers 503 with Retry-After (back-pressure; nothing stored) until they catch up."""
+    for _ in range(600):
+        r = client.request("POST", path, body, raw=True)
+        if r.status != 503 or "retry-after" not in r.headers:
+            break
+        time.sleep(float(r.headers["retry-after"]))
+    if r.status >= 300:
+        raise AssertionError("POST %s answered %d: %r" % (path, r.status, r.body[:300]))
+    return r
+
+
 def observe_scenes(server, client, map_id, scenes, keyframes_per_scene, age_days, x0=0.0):
     """Opens `scenes` scene models (far apart, no merge), posts a frame and a keyframe `keyframes_per_scene` times
     with stamps `age_days` ago and closes them; returns the ids of the keyframes this stored (begin and end
@@ -49,8 +62,8 @@ def observe_scenes(server, client, map_id, scenes, keyframes_per_scene, age_days
         scene = client.request("POST", "/v1/maps/%s/scenes" % map_id,
                                {"camera": CAMERA, "pose": pose, "merge": False, "stamp": start})["id"]
         for k in range(keyframes_per_scene):
-            client.request("POST", "/v1/maps/%s/scenes/%d/frames?stamp=%d" % (map_id, scene, start + k * 10**9), FRAME)
-            client.request("POST", "/v1/maps/%s/scenes/%d/keyframes" % (map_id, scene))
+            post_taken(client, "/v1/maps/%s/scenes/%d/frames?stamp=%d" % (map_id, scene, start + k * 10**9), FRAME)
+            post_taken(client, "/v1/maps/%s/scenes/%d/keyframes" % (map_id, scene))
         client.request("POST", "/v1/maps/%s/scenes/%d:close" % (map_id, scene))
     return sorted(keyframe_ids(server.db_path, map_id) - before)
 
