@@ -1,11 +1,13 @@
 // anchordb: the spatial memory server. Subcommands: serve, token create, forget, backup, import tum, version.
 #include <malloc.h>
+#include <sched.h>
 #include <signal.h>
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <iostream>
@@ -158,6 +160,14 @@ bool ServeUntilStopped(HttpServing& serving, const sigset_t& signals) {
   return ok;
 }
 
+// The cores this process may run on (its affinity mask, e.g. a container's cpuset), at least 1.
+int UsableCores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof(set), &set) != 0) return std::max(1u, std::thread::hardware_concurrency());
+  return std::max(1, CPU_COUNT(&set));
+}
+
 int Serve(const Config& config) {
   const ServerOptions& o = config.server;
   // glibc gives freed memory back to the kernel eagerly (madvise per thread arena): under concurrent short requests
@@ -165,9 +175,11 @@ int Serve(const Config& config) {
   mallopt(M_TRIM_THRESHOLD, 256 << 20);
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   // Each arena keeps its own high-water mark, and glibc makes up to 8 per core: under 32 workers the resident memory
-  // kept creeping up for minutes of a steady load (scripts/soak). Fewer arenas share theirs.
-  mallopt(M_ARENA_MAX, o.malloc_arenas > 0 ? o.malloc_arenas
-                                           : std::max(4, 2 * static_cast<int>(std::thread::hardware_concurrency())));
+  // kept creeping up for minutes of a steady load (scripts/soak). Fewer arenas share theirs. An operator's own
+  // MALLOC_ARENA_MAX or GLIBC_TUNABLES is left alone unless the setting is given.
+  if (o.malloc_arenas > 0 || (!std::getenv("MALLOC_ARENA_MAX") && !std::getenv("GLIBC_TUNABLES"))) {
+    mallopt(M_ARENA_MAX, o.malloc_arenas > 0 ? o.malloc_arenas : std::max(4, 2 * UsableCores()));
+  }
   const bool loopback = IsLoopback(o.bind);
   if (!loopback && o.auth == "off") {
     std::cerr << "anchordb: refusing to serve " << o.bind << " with auth=off; only loopback may run open\n";

@@ -1,6 +1,7 @@
 #include "services/events/analysis_queue.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 
@@ -38,7 +39,10 @@ void AnalysisQueue::Start() {
   if (!workers_.empty()) return;
   // Catch-up workers only when the others run below the requests' priority; they keep this thread's niceness.
   const bool catch_up = settings_.nice > 0 && settings_.backlog.catch_up_at > 0;
-  request_nice_ = getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)));
+  errno = 0;
+  const int nice_now = getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)));
+  request_nice_ = errno == 0 ? nice_now : 0;
+  background_nice_ = std::max(settings_.nice, request_nice_);
   for (int i = 0; i < settings_.threads; ++i) {
     workers_.emplace_back([this, catch_up] { Worker(catch_up ? Role::kBackground : Role::kAny); });
     if (catch_up) workers_.emplace_back([this] { Worker(Role::kCatchUp); });
@@ -70,11 +74,10 @@ void AnalysisQueue::Admit(const std::string& map) {
     std::lock_guard<std::mutex> lock(mutex_);
     ++counters_.frames_refused;
   }
-  throw Error(ErrorCode::kUnavailable,
+  throw Error(ErrorCode::kOverloaded,
               "map '" + map + "' has " + std::to_string(pending) + " keyframe analyses pending (analysis_max_pending " +
                   std::to_string(settings_.backlog.max_pending) +
-                  "): its frames and keyframes are refused until they catch up; retry after Retry-After",
-              "analysis");
+                  "): its frames and keyframes are refused until they catch up; retry after Retry-After");
 }
 
 void AnalysisQueue::Enqueue(storage::Connection& c, const QueuedKeyframe& k) {
@@ -220,9 +223,9 @@ void AnalysisQueue::Worker(Role role) {
       std::lock_guard<std::mutex> lock(mutex_);
       if (stopping_) return;
     }
-    // Linux applies a thread's niceness to that thread alone (its tid as the "process"), and raising it needs no
-    // privilege: set again before each analysis, after a RaiseIfBehind. Failing to set it is harmless.
-    if (settings_.nice > 0 && role != Role::kCatchUp) (void)setpriority(PRIO_PROCESS, static_cast<id_t>(tid), settings_.nice);
+    // Linux applies a thread's niceness to that thread alone (its tid as the "process"), and going back to a higher
+    // niceness needs no privilege: set again before each analysis, after a RaiseIfBehind. Failing is harmless.
+    if (settings_.nice > 0 && role != Role::kCatchUp) (void)setpriority(PRIO_PROCESS, static_cast<id_t>(tid), background_nice_);
     std::uint64_t seen = 0;
     bool unreadable = false;
     try {
@@ -235,7 +238,8 @@ void AnalysisQueue::Worker(Role role) {
         Run(*row);
         if (role == Role::kBackground) {
           std::lock_guard<std::mutex> lock(mutex_);
-          nice_runs_.erase(row->map_id);
+          const auto mine = nice_runs_.find(row->map_id);  // another worker may have taken the map's next row by now
+          if (mine != nice_runs_.end() && mine->second == tid) nice_runs_.erase(mine);
         }
         continue;
       }

@@ -2,10 +2,11 @@
 // The durable, per-map first-in-first-out queue of keyframe change analyses (thesis 3.3.4; SPEC §8).
 //
 // The scene service inserts a queue row (storage/analysis_queue.h) in the transaction that stores a keyframe and
-// answers without waiting. Worker threads (`threads`, default 1) take the oldest row of a map whose analysis is not
-// running, load the keyframe as stored (LoadKeyframeNotice), run EventService::AnalyseKeyframe and delete the row in
+// answers without waiting. Worker threads (`threads`, default 1, and as many catch-up workers, below) take the
+// oldest row of a map whose analysis is not running, load the keyframe as stored (LoadKeyframeNotice), run EventService::AnalyseKeyframe and delete the row in
 // the transaction that writes the events. One map's keyframes are analysed one at a time in keyframe order (action
-// layers chain keyframe to keyframe); different maps run in parallel when threads > 1. No scene-model lock is taken,
+// layers chain keyframe to keyframe); different maps run in parallel (a map behind and one that is not, or several
+// maps when threads > 1). No scene-model lock is taken,
 // so reads and frames of a model never wait for its analysis.
 //
 // - Rows left by a stop or kill -9 are found by the workers at start (Start), so an acknowledged keyframe is analysed.
@@ -15,13 +16,17 @@
 //   given up after `max_attempts` (the row stays, marked failed, and the map's queue moves on).
 // - A keyframe deleted before its analysis (forgetting, its scene or map deleted) takes its row with it; the analysis
 //   is skipped.
-// - The workers run at a lower CPU priority (`nice`): on a busy machine the requests go first and the queue grows,
-//   to be worked off when the load drops. A map's backlog is bounded (`backlog`, engine/events/analysis_backlog.h):
-//   from `catch_up_at` pending analyses on, its analyses are run by catch-up workers (as many as `threads`) at the
-//   requests' priority (the analysis a nice worker is running then is raised to it too where the process may lower
-//   a niceness: root, CAP_SYS_NICE or RLIMIT_NICE; elsewhere it ends at its priority), and from `max_pending` on, its new frames and manual keyframes are refused (Admit: 503 with
-//   Retry-After, nothing stored; counted in /metrics). Only a queue with started workers refuses: in-process callers
-//   run the queue themselves.
+// - The workers run at a lower CPU priority (`nice`, and never above the niceness of the thread that started
+//   them): on a busy machine the requests go first and the queue grows, to be worked off when the load drops.
+// - A map's backlog is bounded (`backlog`, engine/events/analysis_backlog.h; only with started workers, in-process
+//   callers run the queue themselves). From `catch_up_at` pending analyses on (and `nice` > 0), the map's analyses
+//   are run by catch-up workers (as many as `threads`) at the requests' priority; the analysis a nice worker is
+//   running then is raised to it too where the process may lower a niceness (root, CAP_SYS_NICE or RLIMIT_NICE),
+//   elsewhere it ends at its own. From `max_pending` on, the map's new frames and manual keyframes are refused
+//   (Admit: kOverloaded, 503 with Retry-After, nothing stored; counted in /metrics) until it is below again. The
+//   bound is checked before a frame is applied, so frames of several scene models of the map let through at once,
+//   and closes (never refused), can take it a little past max_pending. A map whose oldest analysis keeps failing
+//   transiently (retried without end) stays refused for that long.
 // - Await waits (at most `wait_max_s`) for one keyframe's analysis; without started workers it runs the queue in the
 //   caller first. Drain runs every due analysis in the caller, for deterministic in-process callers (tests,
 //   evaluations). The server starts the workers (Start); in-process users that do not, run analyses only through
@@ -85,7 +90,8 @@ class AnalysisQueue : public KeyframeListener {
   AnalysisQueue(const AnalysisQueue&) = delete;
   AnalysisQueue& operator=(const AnalysisQueue&) = delete;
 
-  // Starts settings.threads workers (no-op when running or threads == 0); they resume rows found in the file.
+  // Starts settings.threads workers and as many catch-up workers (no-op when running or threads == 0); they resume
+  // rows found in the database.
   void Start();
   void Stop();
 
@@ -136,6 +142,7 @@ class AnalysisQueue : public KeyframeListener {
   std::set<std::string> running_maps_;
   std::map<std::string, std::int64_t> nice_runs_;  // map -> thread id of the nice worker running its analysis
   int request_nice_ = 0;                           // the niceness of the thread that started the workers
+  int background_nice_ = 0;                        // the nice workers': max(nice, request_nice_)
   std::map<std::int64_t, std::int64_t> not_before_ns_;  // backoff kept in memory when the failure could not be written
   // Outcomes of recent analyses, for Await (bounded: the oldest are dropped).
   std::map<std::int64_t, KeyframeAnalysisStatus> outcomes_;

@@ -34,7 +34,8 @@ void BindEventSettings(SettingsBinder& b, EventSettings& e) {
 }
 
 void BindAnalysisQueueSettings(SettingsBinder& b, AnalysisQueueSettings& a) {
-  b.Bind("analysis_threads", "worker threads running queued keyframe change analyses (one map's in keyframe order)",
+  b.Bind("analysis_threads", "worker threads running queued keyframe change analyses (one map's in keyframe order), "
+                             "and as many catch-up workers at the requests' priority for maps analysis_catch_up_at behind",
          &a.threads, 0, 64);
   b.Bind("analysis_wait_max_s", "longest a request with wait_for_analysis=true waits for its keyframe's analysis [s]",
          &a.wait_max_s, 0.0, 3600.0);

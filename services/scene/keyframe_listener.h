@@ -71,10 +71,10 @@ struct QueuedKeyframe {
 class KeyframeListener {
  public:
   virtual ~KeyframeListener() = default;
-  // Before a frame or a manual keyframe of `map` changes anything: throws Error(kUnavailable) (503 with Retry-After)
+  // Before a frame or a manual keyframe of `map` changes anything: throws Error(kOverloaded) (503 with Retry-After)
   // while the map's backlog of analyses is at the listener's bound (engine/events/analysis_backlog.h). A listener
   // that forwards to another forwards this too.
-  virtual void Admit(const std::string& map) { (void)map; }
+  virtual void Admit(const std::string& map) = 0;
   // In the write transaction that stores the keyframe: its analysis is queued durably with it.
   virtual void Enqueue(storage::Connection& c, const QueuedKeyframe& keyframe) = 0;
   // After that transaction committed: the analysis may start.

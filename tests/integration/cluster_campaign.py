@@ -72,8 +72,8 @@ def main():
     try:
         writers = cluster_support.MapWriters(cluster.info["anchordb"], threads=args.writers, prefix="k")
         kill_rounds(cluster, writers, args.kills, rows)
-    except AssertionError as e:
-        failure = str(e)
+    except Exception as e:  # any failure is the campaign's result; the cluster is brought down below either way
+        failure = "%s: %s" % (type(e).__name__, e)
         print("campaign stopped: " + failure, flush=True)
     finally:
         if writers is not None:

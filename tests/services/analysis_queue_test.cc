@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -32,6 +33,9 @@ namespace {
 constexpr std::int64_t kT0 = 1'000'000'000'000LL;
 
 std::vector<std::uint16_t> Depth(bool box) { return testing::WallDepthMm(box); }
+
+// The calling thread's own niceness (Linux: a thread's tid as the "process").
+int ThreadNice() { return getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid))); }
 
 class AnalysisQueueTest : public ::testing::Test {
  protected:
@@ -297,6 +301,24 @@ TEST_F(AnalysisQueueTest, TheAnalysisReadsTheKeyframesImagesAsTheModelHadThem) {
 }
 
 
+// Declared after the locals a run hook reads: when the test leaves, on any path, it first releases what the hook
+// waits for, then stops the queue's workers, before those locals are destroyed.
+struct StopOnExit {
+  std::function<void()> release;
+  AnalysisQueue& queue;
+  ~StopOnExit() {
+    if (release) release();
+    queue.Stop();
+  }
+};
+
+void SetValueOnce(std::promise<void>& p) {
+  try {
+    p.set_value();
+  } catch (const std::future_error&) {  // already set by the test
+  }
+}
+
 // Back-pressure (engine/events/analysis_backlog.h): with max_pending analyses of a map pending, its frames and manual
 // keyframes are refused with kUnavailable and store nothing; another map and a close are not refused; once the
 // analyses catch up the map takes frames again.
@@ -309,6 +331,7 @@ TEST_F(AnalysisQueueTest, AMapFarBehindRefusesFramesUntilItsAnalysesCatchUp) {
   std::promise<void> release;
   std::shared_future<void> released = release.get_future().share();
   queue_->SetRunHookForTesting([&](const storage::QueuedAnalysis&) { released.wait(); });
+  const StopOnExit stop{[&] { SetValueOnce(release); }, *queue_};
   const std::int64_t s = OpenScene("a"), s2 = OpenScene("a");
   queue_->Start();
   AddFrame("a", s, Depth(false), kT0 + 100);  // the begin keyframe: pending 1 (taken, held)
@@ -322,7 +345,7 @@ TEST_F(AnalysisQueueTest, AMapFarBehindRefusesFramesUntilItsAnalysesCatchUp) {
     try {
       call();
     } catch (const Error& e) {
-      return e.code() == ErrorCode::kUnavailable && std::string(e.what()).find("analysis_max_pending") != std::string::npos;
+      return e.code() == ErrorCode::kOverloaded && std::string(e.what()).find("analysis_max_pending") != std::string::npos;
     }
     return false;
   };
@@ -350,18 +373,19 @@ TEST_F(AnalysisQueueTest, AMapFarBehindRefusesFramesUntilItsAnalysesCatchUp) {
 // the niceness of the thread that started them); below it, at `nice`.
 TEST_F(AnalysisQueueTest, AMapBehindIsAnalysedAtTheRequestsPriority) {
   Close();
+  const int request_nice = ThreadNice();
   AnalysisQueueSettings q;
   q.threads = 1;
-  q.nice = 10;
+  q.nice = std::min(19, request_nice + 10);
   q.backlog = {2, 0};
   Open(q);
-  const int request_nice = getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)));
   std::mutex m;
   std::vector<int> nice_of_run;
   queue_->SetRunHookForTesting([&](const storage::QueuedAnalysis&) {
     std::lock_guard<std::mutex> lock(m);
-    nice_of_run.push_back(getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid))));
+    nice_of_run.push_back(ThreadNice());
   });
+  const StopOnExit stop{nullptr, *queue_};
   const std::int64_t s = OpenScene("a");
   AddFrame("a", s, Depth(false), kT0 + 100);
   AddFrame("a", s, Depth(true), kT0 + 200);
@@ -383,7 +407,7 @@ bool MayLowerNiceness() {
   bool may = false;
   std::thread([&] {
     const auto tid = static_cast<id_t>(syscall(SYS_gettid));
-    const int before = getpriority(PRIO_PROCESS, tid);
+    const int before = ThreadNice();
     may = setpriority(PRIO_PROCESS, tid, before + 10) == 0 && setpriority(PRIO_PROCESS, tid, before) == 0;
   }).join();
   return may;
@@ -393,24 +417,24 @@ bool MayLowerNiceness() {
 // where the process may lower a niceness; elsewhere it ends at its own.
 TEST_F(AnalysisQueueTest, TheRunningAnalysisOfAMapFallingBehindIsRaisedWherePermitted) {
   Close();
+  const int request_nice = ThreadNice();
   AnalysisQueueSettings q;
   q.threads = 1;
-  q.nice = 10;
+  q.nice = std::min(19, request_nice + 10);
   q.backlog = {2, 0};
   Open(q);
-  const int request_nice = getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)));
   std::promise<void> entered, release;
   std::shared_future<void> released = release.get_future().share();
   std::atomic<bool> first{true};
   std::atomic<int> first_nice_at_start{-100}, first_nice_at_end{-100};
   queue_->SetRunHookForTesting([&](const storage::QueuedAnalysis&) {
     if (!first.exchange(false)) return;
-    const auto tid = static_cast<id_t>(syscall(SYS_gettid));
-    first_nice_at_start = getpriority(PRIO_PROCESS, tid);
+    first_nice_at_start = ThreadNice();
     entered.set_value();
     released.wait();
-    first_nice_at_end = getpriority(PRIO_PROCESS, tid);
+    first_nice_at_end = ThreadNice();
   });
+  const StopOnExit stop{[&] { SetValueOnce(release); }, *queue_};
   const std::int64_t s = OpenScene("a");
   queue_->Start();
   AddFrame("a", s, Depth(false), kT0 + 100);  // pending 1: taken by the nice worker, held
