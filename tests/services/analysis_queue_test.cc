@@ -61,6 +61,15 @@ class AnalysisQueueTest : public ::testing::Test {
     events_.reset();
     store_.reset();
   }
+  // One nice worker 10 below `request_nice` and its catch-up worker from `catch_up_at` pending on; no refusal.
+  void ReopenWithCatchUpAt(int catch_up_at, int request_nice) {
+    Close();
+    AnalysisQueueSettings q;
+    q.threads = 1;
+    q.nice = std::min(19, request_nice + 10);
+    q.backlog = {catch_up_at, 0};
+    Open(q);
+  }
   std::int64_t OpenScene(const std::string& map) {
     OpenSceneRequest r;
     r.camera = testing::WallCamera();
@@ -372,13 +381,8 @@ TEST_F(AnalysisQueueTest, AMapFarBehindRefusesFramesUntilItsAnalysesCatchUp) {
 // From catch_up_at pending analyses on, a map's analyses run at the requests' priority (the catch-up workers keep
 // the niceness of the thread that started them); below it, at `nice`.
 TEST_F(AnalysisQueueTest, AMapBehindIsAnalysedAtTheRequestsPriority) {
-  Close();
   const int request_nice = ThreadNice();
-  AnalysisQueueSettings q;
-  q.threads = 1;
-  q.nice = std::min(19, request_nice + 10);
-  q.backlog = {2, 0};
-  Open(q);
+  ReopenWithCatchUpAt(2, request_nice);
   std::mutex m;
   std::vector<int> nice_of_run;
   queue_->SetRunHookForTesting([&](const storage::QueuedAnalysis&) {
@@ -416,13 +420,8 @@ bool MayLowerNiceness() {
 // A nice worker's analysis that is running when its map falls catch_up_at behind is raised to the requests' priority
 // where the process may lower a niceness; elsewhere it ends at its own.
 TEST_F(AnalysisQueueTest, TheRunningAnalysisOfAMapFallingBehindIsRaisedWherePermitted) {
-  Close();
   const int request_nice = ThreadNice();
-  AnalysisQueueSettings q;
-  q.threads = 1;
-  q.nice = std::min(19, request_nice + 10);
-  q.backlog = {2, 0};
-  Open(q);
+  ReopenWithCatchUpAt(2, request_nice);
   std::promise<void> entered, release;
   std::shared_future<void> released = release.get_future().share();
   std::atomic<bool> first{true};
