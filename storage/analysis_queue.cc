@@ -26,10 +26,10 @@ void EnqueueAnalysis(Connection& c, const QueuedAnalysis& q) {
 }
 
 std::vector<QueueHead> QueueHeads(Connection& c) {
-  Statement s(c, "SELECT q.keyframe_id, q.map_id, q.scene_id, q.enqueued_ns, q.attempts, q.next_attempt_ns, q.last_error, "
-                 "q.failed, h.pending FROM keyframe_analysis_queue q JOIN (SELECT min(keyframe_id) AS head, count(*) AS "
-                 "pending FROM keyframe_analysis_queue WHERE failed = 0 GROUP BY map_id) h ON q.keyframe_id = h.head "
-                 "ORDER BY q.keyframe_id");
+  // The grouped table names only head and pending, so the queue's columns need no prefix.
+  Statement s(c, std::string("SELECT ") + kQueueColumns + ", pending FROM keyframe_analysis_queue JOIN (SELECT "
+                 "min(keyframe_id) AS head, count(*) AS pending FROM keyframe_analysis_queue WHERE failed = 0 GROUP BY "
+                 "map_id) h ON keyframe_id = h.head ORDER BY keyframe_id");
   std::vector<QueueHead> out;
   while (s.Step()) out.push_back({RowOf(s), s.Int(8)});
   return out;

@@ -62,13 +62,17 @@ void AnalysisQueue::Stop() {
   stopping_ = false;
 }
 
+std::int64_t AnalysisQueue::Pending(const std::string& map) {
+  return store_.ReadOneStatement([&](storage::Connection& c) { return storage::PendingAnalyses(c, map); });
+}
+
 void AnalysisQueue::Admit(const std::string& map) {
   if (settings_.backlog.max_pending <= 0) return;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (workers_.empty()) return;  // in-process callers run the queue themselves (Drain, Await)
   }
-  const std::int64_t pending = store_.ReadOneStatement([&](storage::Connection& c) { return storage::PendingAnalyses(c, map); });
+  const std::int64_t pending = Pending(map);
   if (!engine::RefusesFrames(settings_.backlog, pending)) return;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -104,7 +108,7 @@ void AnalysisQueue::Enqueued(const std::string& map) {
 void AnalysisQueue::RaiseIfBehind(const std::string& map) {
   std::int64_t pending = 0;
   try {
-    pending = store_.ReadOneStatement([&](storage::Connection& c) { return storage::PendingAnalyses(c, map); });
+    pending = Pending(map);
   } catch (const std::exception&) {
     return;  // the store fails now: the running analysis keeps its priority
   }

@@ -126,6 +126,8 @@ class AnalysisQueue : public KeyframeListener {
   // A map `catch_up_at` behind whose analysis a nice worker runs: that thread is raised to request priority (when the
   // process may).
   void RaiseIfBehind(const std::string& map);
+  // The map's analyses not given up, read in one statement.
+  std::int64_t Pending(const std::string& map);
   std::int64_t BackoffNs(int attempts) const;
 
   storage::Store& store_;
