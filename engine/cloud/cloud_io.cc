@@ -104,21 +104,21 @@ void CheckPcdHeaderNumbers(std::string_view bytes, std::size_t max_points) {
   // the last one: the largest value of each key anywhere in the input counts. Lines are read in place; only the few
   // whose first word is a key are parsed.
   std::uint64_t width = 0, height = 0, points = 0, size = 0, count = 1, fields = 0;
-  // Each word's leading number, saturated: PCL's own parsing wraps a number too large for its type (found by the
-  // fuzz target: COUNT 8888...), and a sign or an overflow here must not make a value look small.
+  // PCL reads a line's numbers by stream extraction, not word by word: "1-23T05" is the two numbers 1 and -23 (found
+  // by the fuzz target: a COUNT of -23 wrapped PCL's point size to 4 GB and its buffer to 154 GB). The numbers are
+  // read here the same way, as many as the stream yields: a negative one is malformed, and one too large for 64 bits
+  // counts as the cap (PCL's own parsing wraps it, found by the fuzz target: COUNT 8888...).
   static constexpr std::uint64_t kCap = 1u << 30;
-  const auto largest = [](std::istringstream& words, std::uint64_t& into) {
-    std::uint64_t n = 0;
-    for (std::string word; words >> word; ++n) {
-      std::uint64_t v = kCap;
-      if (word[0] != '-') {
-        const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), v);
-        if (ec == std::errc::invalid_argument) v = 0;
-        else if (ec == std::errc::result_out_of_range) v = kCap;
-        (void)end;
-      }
-      into = std::max(into, std::min(v, kCap));
+  const auto largest = [](std::string_view key, std::string_view rest, std::uint64_t& into) {
+    std::istringstream numbers{std::string(rest)};
+    for (long long v = 0; numbers >> v || v != 0;) {
+      if (v < 0) Bad("the PCD header's " + std::string(key) + " line holds a negative number");
+      into = std::max(into, std::min(static_cast<std::uint64_t>(v), kCap));
+      if (!numbers) break;  // an out-of-range number: extraction saturates it and fails
     }
+    std::istringstream words{std::string(rest)};
+    std::uint64_t n = 0;
+    for (std::string word; words >> word;) ++n;
     return n;
   };
   constexpr std::string_view kBlanks = " \t\r";  // PCL's word separators
@@ -133,8 +133,7 @@ void CheckPcdHeaderNumbers(std::string_view bytes, std::size_t max_points) {
     std::uint64_t* into = is("WIDTH") ? &width : is("HEIGHT") ? &height : is("POINTS") ? &points
                         : is("SIZE")  ? &size  : is("COUNT")  ? &count  : nullptr;
     if (!into) continue;
-    std::istringstream words{std::string(line.substr(key.size()))};
-    const std::uint64_t values = largest(words, *into);
+    const std::uint64_t values = largest(key, line.substr(key.size()), *into);
     if (into == &size) fields = std::max(fields, values);
   }
   const std::uint64_t grid = width * std::max<std::uint64_t>(height, 1);

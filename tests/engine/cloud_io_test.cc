@@ -60,5 +60,29 @@ TEST(CloudIo, LyingAndForeignBodiesAreRefused) {
   EXPECT_THROW(DecodeCloud(ply.substr(0, ply.size() - 100), 1000), Error);
 }
 
+// PCL reads a header line's numbers by stream extraction, so "1-23T05" is 1 and -23; a negative COUNT wrapped its
+// point size and sized a 154 GB buffer before the body was read (found by the fuzz target). Refused as bad input,
+// also when the negative number hides inside a word or sits on SIZE or WIDTH.
+TEST(CloudIo, NegativeHeaderNumbersAreRefusedBeforePclSizesItsBuffer) {
+  const std::string binary = EncodeCloud(RandomCloud(36, 5), CloudFormat::kPcdBinary);
+  const auto with = [&binary](const std::string& from, const std::string& to) {
+    std::string b = binary;
+    const std::size_t at = b.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return b.replace(at, from.size(), to);
+  };
+  ASSERT_EQ(DecodeCloud(binary, 1000).points.size(), 36u);
+  for (const std::string& bad : {with("COUNT 1 1 1", "COUNT 1 1-23T05:30 0"), with("COUNT 1 1 1", "COUNT 1 1 -1"),
+                                 with("SIZE 4 4 4", "SIZE 4 4-4 4"), with("WIDTH 36", "WIDTH -36")}) {
+    try {
+      DecodeCloud(bad, 1000);
+      ADD_FAILURE() << "accepted a negative header number";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument) << e.what();
+      EXPECT_NE(std::string(e.what()).find("negative"), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace anchordb::engine
