@@ -48,7 +48,17 @@ ServerPresence::ServerPresence(const std::string& location, const ConnectionOpti
   throw Error(ErrorCode::kUnavailable, "no free server id on this database after 64 attempts");
 }
 
-ServerPresence::~ServerPresence() = default;  // closing the session releases the lock
+// The lock is released on this session before it closes: closing alone ends the session, but PostgreSQL releases
+// the lock only when the backend has exited, a moment later, so another server asking right after a clean stop could
+// still see this one running (the storage test found it).
+ServerPresence::~ServerPresence() {
+  if (!connection_) return;
+  try {
+    Unlock(key_);
+  } catch (const std::exception&) {
+    // the session is gone already, and its lock with it
+  }
+}
 
 bool ServerPresence::TryLock(std::int64_t key) {
   Statement s(*connection_, "SELECT pg_try_advisory_lock(?)");
