@@ -11,7 +11,7 @@
 #include <thread>
 
 namespace anchordb::api {
-namespace {
+namespace admission_test {
 
 class Latch {
  public:

@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 namespace anchordb::api {
-namespace {
+namespace exported_bytes_http_test {
 
 using services::BytesFormat;
 using services::ExportedLayer;

@@ -27,7 +27,7 @@
 #include <thread>
 
 namespace anchordb {
-namespace {
+namespace fault_injection_test {
 
 namespace fault = storage::fault;
 using nlohmann::json;

@@ -7,7 +7,7 @@
 #include "schema/error.h"
 
 namespace anchordb::api {
-namespace {
+namespace furniture_json_test {
 
 using services::FramePrior;
 

@@ -7,7 +7,7 @@
 #include "schema/error.h"
 
 namespace anchordb::api::grid_json {
-namespace {
+namespace grid_json_test {
 
 using services::LayerSpec;
 

@@ -9,7 +9,7 @@
 #include "services/jobs/forget_job.h"
 
 namespace anchordb::api {
-namespace {
+namespace job_json_test {
 
 constexpr std::int64_t kWallNs = 1'800'000'000'000'000'000;
 

@@ -11,7 +11,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::api {
-namespace {
+namespace openapi_test {
 
 // The route table of every capability, on a fresh database.
 class OpenApiTest : public ::testing::Test {

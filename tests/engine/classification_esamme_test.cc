@@ -11,7 +11,7 @@
 #include "schema/error.h"
 
 namespace anchordb::engine {
-namespace {
+namespace classification_esamme_test {
 
 // K Gaussian classes in `dims` dimensions, class c centred at c * spacing on every axis, unit standard deviation;
 // with `noise_dims` > 0 a second feature type "noise" of pure N(0, 1) values independent of the class.

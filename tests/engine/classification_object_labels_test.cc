@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 namespace anchordb::engine {
-namespace {
+namespace classification_object_labels_test {
 
 TEST(ObjectLabelsTest, APersonsLabelAlwaysWinsOverTheClassifier) {
   const LabelWeights classified = {{"cup", 0.75}, {"box", 0.25}};

@@ -11,7 +11,7 @@
 #include "schema/error.h"
 
 namespace anchordb::engine {
-namespace {
+namespace cloud_io_test {
 
 std::vector<Eigen::Vector3f> RandomCloud(std::size_t n, unsigned seed) {
   std::mt19937 rng(seed);

@@ -9,7 +9,7 @@
 #include "engine/scene/scene_model.h"
 
 namespace anchordb::engine {
-namespace {
+namespace depth_edge_filter_test {
 
 constexpr int kW = 12, kH = 8;
 

@@ -4,7 +4,7 @@
 #include "engine/events/analysis_backlog.h"
 
 namespace anchordb::engine {
-namespace {
+namespace events_analysis_backlog_test {
 
 TEST(AnalysisBacklogTest, FramesAreRefusedFromTheBoundOnAndCatchUpStartsAtItsThreshold) {
   const AnalysisBacklogLimits limits{4, 10};

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 namespace anchordb::engine {
-namespace {
+namespace events_graph_placement_test {
 
 namespace g = grounding;
 

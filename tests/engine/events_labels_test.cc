@@ -5,7 +5,7 @@
 #include "schema/error.h"
 
 namespace anchordb::engine {
-namespace {
+namespace events_labels_test {
 
 TEST(EventsLabelsTest, NormalisedLowercaseTrimmedAndCollapsed) {
   EXPECT_EQ(NormaliseLabel("  Car   Keys ", 64, "label"), "car keys");
@@ -44,7 +44,7 @@ TEST(EventsLabelsTest, DialogAddsEvidenceAnOperatorReplacesIt) {
 }  // namespace anchordb::engine
 
 namespace anchordb::engine {
-namespace {
+namespace events_labels_test {
 
 TEST(EventsLabelsTest, FurnitureGoesByItsMostProbableNameFirstAlphabeticallyAmongEquals) {
   EXPECT_EQ(FurnitureName({}), "furniture");

@@ -7,7 +7,7 @@
 #include "tests/engine/events_test_support.h"
 
 namespace anchordb::engine {
-namespace {
+namespace events_lost_key_test {
 
 using testing::Box;
 using testing::Instance;

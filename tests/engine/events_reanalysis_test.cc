@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 namespace anchordb::engine {
-namespace {
+namespace events_reanalysis_test {
 
 TEST(EventsReanalysisTest, TheNearestNewerModelWithFramesThatWasNotForgotten) {
   const std::vector<ReanalysisCandidate> nearest_first = {

@@ -7,7 +7,7 @@
 #include "tests/engine/events_test_support.h"
 
 namespace anchordb::engine {
-namespace {
+namespace events_seen_through_test {
 
 Visibility Seen(int confirmed, int seen_through, int hidden = 0) {
   Visibility v;

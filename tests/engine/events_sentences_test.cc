@@ -5,7 +5,7 @@
 #include "engine/events/sentences.h"
 
 namespace anchordb::engine {
-namespace {
+namespace events_sentences_test {
 
 TEST(EventsSentencesTest, PluralByTheLastLetter) {
   EXPECT_TRUE(IsPluralLabel("keys"));

@@ -8,7 +8,7 @@
 #include "engine/events/segments.h"
 
 namespace anchordb::engine {
-namespace {
+namespace events_test {
 
 constexpr int kW = 160, kH = 120;
 const PinholeIntrinsics kK{kW, kH, 130.0, 130.0, 79.5, 59.5};

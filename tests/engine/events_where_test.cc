@@ -5,7 +5,7 @@
 #include "engine/events/where.h"
 
 namespace anchordb::engine {
-namespace {
+namespace events_where_test {
 
 TEST(EventsWhereTest, ConfidenceByHowThePositionIsKnown) {
   EXPECT_EQ(PositionConfidence("observed"), 0.95);

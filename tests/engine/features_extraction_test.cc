@@ -8,7 +8,7 @@
 #include "schema/error.h"
 
 namespace anchordb::engine {
-namespace {
+namespace features_extraction_test {
 
 // A floor (z = 0, 3 x 3 m), a wall (x = 3, 2 m high) and a 0.5 m cube on the floor, sampled every 1 cm with 2 mm
 // noise, seen from (0, 0, 1.5).
@@ -85,7 +85,7 @@ TEST(CodebookTest, KMeansSeparatesClustersAndBagsNormalise) {
 }  // namespace anchordb::engine
 
 namespace anchordb::engine {
-namespace {
+namespace features_extraction_test {
 
 TEST(CodebookTest, ABagOfOneTypeCodesOnlyThatTypesFeaturesOfTheCodebooksLength) {
   const Codebook book{2, 2, {0.f, 0.f, 10.f, 10.f}};

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 namespace anchordb::engine::forgetting {
-namespace {
+namespace forgetting_keep_rules_test {
 
 TEST(ForgettingKeepRulesTest, AnEventStaysForEachReasonAloneAndReportsTheFirst) {
   EXPECT_EQ(KeepEvent({}), EventKeep::kForget);

@@ -7,7 +7,7 @@
 #include "tests/support/test_grids.h"
 
 namespace anchordb::engine {
-namespace {
+namespace grid_label_ids_test {
 
 TEST(GridLabelIds, AKnownNameKeepsItsId) {
   const LabelIdChoice c = ChooseLabelId({{1, "hall"}, {4, "kitchen"}}, "kitchen");

@@ -7,7 +7,7 @@
 #include "tests/support/test_grids.h"
 
 namespace anchordb::engine {
-namespace {
+namespace grid_layer_export_test {
 
 TEST(GridLayerExport, SensorInsideGridUsesTheCellsOfTheGrid) {
   GridGeometry g = testing::FreeGrid(4, 2, 0.5).geometry;  // 2 m x 1 m

@@ -6,7 +6,7 @@
 #include "tests/support/test_grids.h"
 
 namespace anchordb::engine {
-namespace {
+namespace grid_layer_values_test {
 
 TEST(GridLayerValues, OccupancyReadsAsValueOverHundredAndUnknownAsHalf) {
   OccupancyGrid occupancy = testing::FreeGrid(5, 1, 1.0);

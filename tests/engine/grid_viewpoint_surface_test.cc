@@ -7,7 +7,7 @@
 #include "tests/support/test_grids.h"
 
 namespace anchordb::engine {
-namespace {
+namespace grid_viewpoint_surface_test {
 
 // Two surfaces on a 20 m x 10 m grid (1 m cells): a large one at x 2..5 and a small one at x 14..15.
 struct TwoSurfaces {

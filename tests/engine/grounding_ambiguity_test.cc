@@ -7,7 +7,7 @@
 #include "schema/error.h"
 
 namespace anchordb::engine::grounding {
-namespace {
+namespace grounding_ambiguity_test {
 
 int Cat(const char* id) { return DefaultKnowledge().categories.IndexOfId(id); }
 

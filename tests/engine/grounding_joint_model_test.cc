@@ -15,7 +15,7 @@
 #include "engine/grounding/joint_model.h"
 
 namespace anchordb::engine::grounding {
-namespace {
+namespace grounding_joint_model_test {
 
 int Cat(const char* id) { return DefaultKnowledge().categories.IndexOfId(id); }
 

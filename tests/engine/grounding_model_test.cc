@@ -8,7 +8,7 @@
 #include "schema/error.h"
 
 namespace anchordb::engine::grounding {
-namespace {
+namespace grounding_model_test {
 
 constexpr double kTol = 1e-12;
 

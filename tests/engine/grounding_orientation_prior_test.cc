@@ -10,7 +10,7 @@
 #include "sim/apartment.h"
 
 namespace anchordb::engine::grounding {
-namespace {
+namespace grounding_orientation_prior_test {
 
 int Cat(const char* id) { return DefaultKnowledge().categories.IndexOfId(id); }
 

@@ -8,7 +8,7 @@
 #include "schema/error.h"
 
 namespace anchordb::engine::grounding {
-namespace {
+namespace grounding_parser_test {
 
 const CategoryTable& Categories() { return DefaultKnowledge().categories; }
 int Id(const char* id) { return Categories().IndexOfId(id); }

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 namespace anchordb::engine::grounding {
-namespace {
+namespace grounding_readings_test {
 
 TEST(GroundingReadings, LabelIsTheFirstMostProbableCategory) {
   GraphState s;

@@ -10,7 +10,7 @@
 #include "schema/error.h"
 
 namespace anchordb::engine::grounding {
-namespace {
+namespace grounding_sequence_test {
 
 constexpr int kChair = 0, kPlant = 1, kShelf = 2;
 

@@ -10,7 +10,7 @@
 #include "sim/png_writer.h"
 
 namespace anchordb::engine {
-namespace {
+namespace map_server_test {
 
 GreyImage Gradient(int w, int h) {
   GreyImage img{w, h, {}};

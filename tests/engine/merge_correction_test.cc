@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 namespace anchordb::engine {
-namespace {
+namespace merge_correction_test {
 
 MergeModelReport Model(std::int64_t id, bool applied, double fitness_m2, const Eigen::Vector3d& t_m) {
   MergeModelReport r;

@@ -8,7 +8,7 @@
 #include <random>
 
 namespace anchordb::engine {
-namespace {
+namespace merge_tolerance_test {
 
 const PinholeIntrinsics kK{640, 480, 525.0, 525.0, 319.5, 239.5};
 

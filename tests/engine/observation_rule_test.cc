@@ -8,7 +8,7 @@
 #include <vector>
 
 namespace anchordb::engine {
-namespace {
+namespace observation_rule_test {
 
 Eigen::Isometry3d PoseAt(double x_m, double yaw_rad = 0.0) {
   Eigen::Isometry3d X = Eigen::Isometry3d::Identity();

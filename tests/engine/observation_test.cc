@@ -15,7 +15,7 @@
 #include "tests/support/test_grids.h"
 
 namespace anchordb::engine {
-namespace {
+namespace observation_test {
 
 using testing::OccupancyFromAscii;
 

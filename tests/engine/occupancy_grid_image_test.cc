@@ -7,7 +7,7 @@
 #include "engine/grid/map_server.h"
 
 namespace anchordb::engine {
-namespace {
+namespace occupancy_grid_image_test {
 
 TEST(OccupancyGridImageTest, MapServerReadsBackEveryCellValueAtItsPlace) {
   constexpr int kWidth = 17, kHeight = 6;  // 102 cells: every value -1 .. 100 once, row-major from the origin

@@ -9,7 +9,7 @@
 #include "schema/error.h"
 
 namespace anchordb::engine {
-namespace {
+namespace octomap_leaf_centres_test {
 
 Voxel Block(const Eigen::Vector3d& center_map, double size_m) {
   Voxel v;

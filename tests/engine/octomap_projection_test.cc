@@ -13,7 +13,7 @@
 #include "sim/renderer.h"
 
 namespace anchordb::engine {
-namespace {
+namespace octomap_projection_test {
 
 TEST(OctomapProjection, UnknownStaysUnknownAndOccupiedWinsInACell) {
   GridGeometry g;

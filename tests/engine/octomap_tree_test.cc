@@ -9,7 +9,7 @@
 #include "schema/error.h"
 
 namespace anchordb::engine {
-namespace {
+namespace octomap_tree_test {
 
 // A wall at x = 2 m facing the origin: a 1 m x 1 m square of points, 1 cm apart.
 std::vector<Eigen::Vector3f> Wall(float x_m = 2.0f) {

@@ -11,7 +11,7 @@
 #include "sim/png_writer.h"
 
 namespace anchordb::engine {
-namespace {
+namespace png_codec_test {
 
 std::vector<std::uint8_t> RandomBytes(std::size_t n, std::uint32_t seed) {
   std::mt19937 rng(seed);

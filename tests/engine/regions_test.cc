@@ -8,7 +8,7 @@
 #include "tests/support/test_grids.h"
 
 namespace anchordb::engine {
-namespace {
+namespace regions_test {
 
 ProbabilityGrid Blobs() {
   GridGeometry g;

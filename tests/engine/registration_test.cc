@@ -14,7 +14,7 @@
 #include "tests/engine/registration_scenes.h"
 
 namespace anchordb::engine {
-namespace {
+namespace registration_test {
 
 using Eigen::Isometry3d;
 using Eigen::Vector3d;

@@ -7,7 +7,7 @@
 #include <map>
 
 namespace anchordb::engine {
-namespace {
+namespace scene_merge_candidates_test {
 
 constexpr std::int64_t kDayNs = 24LL * 3600 * 1'000'000'000;
 const PinholeIntrinsics kK{64, 48, 60.0, 60.0, 31.5, 23.5};

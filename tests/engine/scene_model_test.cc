@@ -6,7 +6,7 @@
 #include "engine/scene/projection.h"
 
 namespace anchordb::engine {
-namespace {
+namespace scene_model_test {
 
 // A 1 x n image helper: depths in mm.
 FrameCounts Feed(SceneModelState& s, std::vector<std::uint16_t> mm, std::vector<std::uint8_t> dyn = {},

@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 namespace anchordb::engine {
-namespace {
+namespace scene_settle_test {
 
 FrameCounts Counts(std::size_t movable, std::size_t reset = 0, std::size_t dynamic = 0) {
   FrameCounts c;

@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 namespace anchordb::engine {
-namespace {
+namespace scene_supersession_test {
 
 Pose3 At(const Eigen::Vector3d& p, const Eigen::Quaterniond& q = Eigen::Quaterniond::Identity()) {
   Pose3 pose;

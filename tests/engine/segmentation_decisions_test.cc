@@ -10,7 +10,7 @@
 #include "engine/segmentation/segment_decisions.h"
 
 namespace anchordb::engine::segmentation {
-namespace {
+namespace segmentation_decisions_test {
 
 constexpr int kWidth = 64, kHeight = 48;
 

@@ -18,7 +18,7 @@
 #include "sim/renderer.h"
 
 namespace anchordb::engine::segmentation {
-namespace {
+namespace segmentation_test {
 
 std::vector<Eigen::Vector3f> RoomCloud(const sim::FurnishedRoom& room, std::uint64_t seed, double max_depth_m = 3.5) {
   const PinholeIntrinsics K = sim::KinectIntrinsics();

@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 namespace anchordb::engine {
-namespace {
+namespace settle_kinect_test {
 
 namespace rs = registration_scenes;
 

@@ -12,7 +12,7 @@
 #include "tests/support/furniture_meshes.h"
 
 namespace anchordb::engine {
-namespace {
+namespace shape_model_test {
 
 ShapeModelParams SmallParams() {
   ShapeModelParams p;

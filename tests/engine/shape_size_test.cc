@@ -10,7 +10,7 @@
 #include "schema/error.h"
 
 namespace anchordb::engine {
-namespace {
+namespace shape_size_test {
 
 // A closed box, z up, standing on z = 0.
 TriangleMesh Box(float length, float width, float height) {

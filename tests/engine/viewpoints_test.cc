@@ -11,7 +11,7 @@
 #include "tests/support/test_grids.h"
 
 namespace anchordb::engine {
-namespace {
+namespace viewpoints_test {
 
 constexpr double kRes = 0.05;
 

@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 namespace anchordb {
-namespace {
+namespace analysis_queue_http_test {
 
 using nlohmann::json;
 

@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 
 namespace anchordb {
-namespace {
+namespace classifiers_http_test {
 
 using nlohmann::json;
 

@@ -18,7 +18,7 @@
 #include <thread>
 
 namespace anchordb {
-namespace {
+namespace event_stream_http_test {
 
 using nlohmann::json;
 

@@ -20,7 +20,7 @@
 #include <set>
 
 namespace anchordb {
-namespace {
+namespace events_http_test {
 
 using nlohmann::json;
 

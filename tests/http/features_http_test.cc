@@ -16,7 +16,7 @@
 #include <nlohmann/json.hpp>
 
 namespace anchordb {
-namespace {
+namespace features_http_test {
 
 using nlohmann::json;
 

@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 
 namespace anchordb {
-namespace {
+namespace furniture_http_test {
 
 using nlohmann::json;
 

@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 
 namespace anchordb {
-namespace {
+namespace grounding_ambiguity_http_test {
 
 using nlohmann::json;
 

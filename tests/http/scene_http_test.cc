@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 namespace anchordb {
-namespace {
+namespace scene_http_test {
 
 using nlohmann::json;
 
@@ -252,7 +252,7 @@ TEST_F(SceneHttpTest, BadInputIsRefusedAndChangesNothing) {
 }  // namespace anchordb
 
 namespace anchordb {
-namespace {
+namespace scene_http_test {
 
 // Issue 4, acceptance 5: A is observed and closed; the object is moved meanwhile; B, opened elsewhere, reports the
 // moved object movable in its first frames without having seen it move -- the merge carried A's background over.

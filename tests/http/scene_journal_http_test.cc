@@ -19,7 +19,7 @@
 #include <nlohmann/json.hpp>
 
 namespace anchordb {
-namespace {
+namespace scene_journal_http_test {
 
 using nlohmann::json;
 

@@ -17,7 +17,7 @@
 #include <nlohmann/json.hpp>
 
 namespace anchordb {
-namespace {
+namespace scene_pose_uncertainty_http_test {
 
 using nlohmann::json;
 namespace rs = registration_scenes;

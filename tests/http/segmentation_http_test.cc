@@ -19,7 +19,7 @@
 #include "sim/scenario_driver.h"
 
 namespace anchordb {
-namespace {
+namespace segmentation_http_test {
 
 using nlohmann::json;
 

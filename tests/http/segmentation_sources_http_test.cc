@@ -20,7 +20,7 @@
 #include <nlohmann/json.hpp>
 
 namespace anchordb {
-namespace {
+namespace segmentation_sources_http_test {
 
 using nlohmann::json;
 

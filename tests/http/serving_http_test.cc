@@ -24,7 +24,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace anchordb {
-namespace {
+namespace serving_http_test {
 
 constexpr int kNeverAnsweredMs = 30000;  // a response not here by then is a response that never comes
 

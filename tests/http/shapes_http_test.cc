@@ -21,7 +21,7 @@
 #include <nlohmann/json.hpp>
 
 namespace anchordb {
-namespace {
+namespace shapes_http_test {
 
 using nlohmann::json;
 

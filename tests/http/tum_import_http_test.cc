@@ -19,7 +19,7 @@
 #include <nlohmann/json.hpp>
 
 namespace anchordb {
-namespace {
+namespace tum_import_http_test {
 
 using nlohmann::json;
 

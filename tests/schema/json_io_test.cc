@@ -5,7 +5,7 @@
 #include "schema/error.h"
 
 namespace anchordb::json {
-namespace {
+namespace json_io_test {
 
 ErrorCode CodeOf(const std::function<void()>& fn) {
   try {

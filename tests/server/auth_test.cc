@@ -9,7 +9,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::server {
-namespace {
+namespace auth_test {
 
 storage::StoreOptions OptionsFor(const std::string& path) {
   storage::StoreOptions o;

@@ -7,7 +7,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::server {
-namespace {
+namespace config_test {
 
 TEST(ConfigTest, DefaultsFileEnvironmentFlagsInIncreasingPrecedence) {
   testing::TempDir dir;

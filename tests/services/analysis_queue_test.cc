@@ -28,7 +28,7 @@
 #include "tests/support/wall_and_box.h"
 
 namespace anchordb::services {
-namespace {
+namespace analysis_queue_test {
 
 constexpr std::int64_t kT0 = 1'000'000'000'000LL;
 

@@ -10,7 +10,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::services {
-namespace {
+namespace audit_service_test {
 
 class AuditServiceTest : public ::testing::Test {
  protected:

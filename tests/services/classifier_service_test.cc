@@ -17,7 +17,7 @@
 #include "tests/support/test_store.h"
 
 namespace anchordb::services {
-namespace {
+namespace classifier_service_test {
 
 using testing::CodeOf;
 

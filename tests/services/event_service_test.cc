@@ -18,7 +18,7 @@
 #include "tests/support/wall_and_box.h"
 
 namespace anchordb::services {
-namespace {
+namespace event_service_test {
 
 
 std::vector<std::uint16_t> Depth(bool box) { return testing::WallDepthMm(box); }

@@ -18,7 +18,7 @@
 #include "tests/support/test_store.h"
 
 namespace anchordb::services {
-namespace {
+namespace feature_service_test {
 
 using testing::ErrorOf;
 

@@ -11,7 +11,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::services {
-namespace {
+namespace furniture_service_test {
 
 FurniturePieceRequest Piece(const std::string& id, double x, double y, double ex, double ey, std::vector<CategoryWeight> categories) {
   FurniturePieceRequest p;

@@ -15,7 +15,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::services {
-namespace {
+namespace grid_layer_kinds_test {
 
 using grid_detail::KindOps;
 using grid_detail::LayerKindOps;

@@ -12,7 +12,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::services {
-namespace {
+namespace grid_service_test {
 
 constexpr std::int64_t kStartNs = 1'700'000'000'000'000'000;
 

@@ -16,7 +16,7 @@
 #include "tests/support/test_store.h"
 
 namespace anchordb::services {
-namespace {
+namespace job_servers_test {
 
 using namespace std::string_literals;
 

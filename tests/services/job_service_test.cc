@@ -19,7 +19,7 @@
 #include "tests/support/error_of.h"
 
 namespace anchordb::services {
-namespace {
+namespace job_service_test {
 
 using testing::CodeOf;
 

@@ -15,7 +15,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::services {
-namespace {
+namespace octomap_follow_test {
 
 class OctomapFollowTest : public ::testing::Test {
  protected:

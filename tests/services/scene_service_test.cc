@@ -16,7 +16,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::services {
-namespace {
+namespace scene_service_test {
 
 constexpr std::int64_t kStartNs = 1'700'000'000'000'000'000LL;
 const PinholeIntrinsics kK{64, 48, 60.0, 60.0, 31.5, 23.5};

@@ -7,7 +7,7 @@
 #include "storage/segmentation_documents.h"
 
 namespace anchordb::services {
-namespace {
+namespace segmentation_documents_test {
 
 TEST(SegmentationDocumentsTest, ARequestComesBackAsSubmitted) {
   SegmentationRequest r;

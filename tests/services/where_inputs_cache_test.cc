@@ -14,7 +14,7 @@
 #include "tests/support/test_store.h"
 
 namespace anchordb::services {
-namespace {
+namespace where_inputs_cache_test {
 
 storage::WhereInputs InputsAt(std::int64_t version, std::int64_t furniture = 0) {
   storage::WhereInputs in;

@@ -10,7 +10,7 @@
 #include "tests/support/test_store.h"
 
 namespace anchordb::storage {
-namespace {
+namespace analysis_queue_rows_test {
 
 class AnalysisQueueRowsTest : public ::testing::TestWithParam<Engine> {
  protected:

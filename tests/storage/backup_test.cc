@@ -12,7 +12,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::storage {
-namespace {
+namespace backup_test {
 
 ConnectionOptions Writable() {
   ConnectionOptions o;

@@ -7,7 +7,7 @@
 #include "schema/error.h"
 
 namespace anchordb::storage {
-namespace {
+namespace blob_codec_test {
 
 TEST(BlobCodecTest, RoundTripEveryElementType) {
   std::mt19937 rng(7);

@@ -11,7 +11,7 @@
 #include "storage/job_documents.h"
 
 namespace anchordb::storage {
-namespace {
+namespace document_codec_test {
 
 std::string ReasonOf(const std::function<void()>& f) {
   try {

@@ -10,7 +10,7 @@
 #include "tests/support/pg_scratch.h"
 
 namespace anchordb::storage {
-namespace {
+namespace event_details_test {
 
 class EventDetailsTest : public ::testing::TestWithParam<Engine> {
  protected:

@@ -16,7 +16,7 @@
 #include "tests/support/test_store.h"
 
 namespace anchordb::storage {
-namespace {
+namespace event_repository_test {
 
 class EventRepositoryTest : public ::testing::TestWithParam<Engine> {
  protected:

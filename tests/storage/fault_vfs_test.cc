@@ -9,7 +9,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::storage {
-namespace {
+namespace fault_vfs_test {
 
 class FaultVfsTest : public ::testing::Test {
  protected:

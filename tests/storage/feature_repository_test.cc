@@ -12,7 +12,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::storage {
-namespace {
+namespace feature_repository_test {
 
 class FeatureRepositoryTest : public ::testing::TestWithParam<Engine> {
  protected:

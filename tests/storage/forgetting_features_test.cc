@@ -4,7 +4,7 @@
 #include "tests/storage/forgetting_fixture.h"
 
 namespace anchordb::storage::forget_test {
-namespace {
+namespace forgetting_features_test {
 
 using forgetting_features = ForgetFixture;
 

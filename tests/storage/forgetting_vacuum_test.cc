@@ -10,7 +10,7 @@
 #include "tests/storage/forgetting_fixture.h"
 
 namespace anchordb::storage {
-namespace {
+namespace forgetting_vacuum_test {
 
 using namespace forget_test;  // NOLINT: the fixture and its helpers are this file's vocabulary
 

@@ -14,7 +14,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::storage {
-namespace {
+namespace frame_journal_test {
 
 std::int64_t AddScene(Store& store, const std::string& map) {
   return store.Write([&](Connection& c) {

@@ -13,7 +13,7 @@
 #include "tests/support/pg_scratch.h"
 
 namespace anchordb::storage {
-namespace {
+namespace furniture_evidence_migration_test {
 
 class FurnitureEvidenceMigrationTest : public ::testing::TestWithParam<Engine> {
  protected:

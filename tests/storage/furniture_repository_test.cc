@@ -12,7 +12,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::storage {
-namespace {
+namespace furniture_repository_test {
 
 class FurnitureRepositoryTest : public ::testing::TestWithParam<Engine> {
  protected:

@@ -9,7 +9,7 @@
 #include "schema/error.h"
 
 namespace anchordb::services {
-namespace {
+namespace hypotheses_codec_test {
 
 namespace g = engine::grounding;
 

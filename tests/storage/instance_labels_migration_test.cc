@@ -15,7 +15,7 @@
 #include "tests/support/pg_scratch.h"
 
 namespace anchordb::storage {
-namespace {
+namespace instance_labels_migration_test {
 
 using Labels = std::map<std::string, double>;
 

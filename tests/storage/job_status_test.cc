@@ -11,7 +11,7 @@
 #include "tests/support/pg_scratch.h"
 
 namespace anchordb::storage {
-namespace {
+namespace job_status_test {
 
 TEST(JobStatusNames, EveryStatusRoundTripsAndAnUnknownNameIsCorrupt) {
   for (JobStatus s : {JobStatus::kQueued, JobStatus::kRunning, JobStatus::kSucceeded, JobStatus::kFailed}) {

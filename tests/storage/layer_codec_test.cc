@@ -10,7 +10,7 @@
 #include "storage/blob_codec.h"
 
 namespace anchordb::storage {
-namespace {
+namespace layer_codec_test {
 
 GridGeometry Geometry() {
   GridGeometry g;

@@ -12,7 +12,7 @@
 #include "tests/support/pg_scratch.h"
 
 namespace anchordb::storage {
-namespace {
+namespace layer_repository_test {
 
 class LayerRepositoryTest : public ::testing::TestWithParam<Engine> {
  protected:

@@ -21,7 +21,7 @@
 #include "tests/support/error_of.h"
 
 namespace anchordb::storage {
-namespace {
+namespace postgres_connection_test {
 
 using testing::CodeOf;
 

@@ -19,7 +19,7 @@
 #include "tests/support/test_store.h"
 
 namespace anchordb::storage {
-namespace {
+namespace repository_round_trip_test {
 
 using namespace std::string_literals;
 

@@ -19,7 +19,7 @@
 #include "tests/support/pg_scratch.h"
 
 namespace anchordb::storage {
-namespace {
+namespace scene_documents_migration_test {
 
 class SceneDocumentsMigrationTest : public ::testing::TestWithParam<Engine> {
  protected:

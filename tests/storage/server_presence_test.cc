@@ -9,7 +9,7 @@
 #include "tests/support/test_store.h"
 
 namespace anchordb::storage {
-namespace {
+namespace server_presence_test {
 
 class ServerPresenceTest : public ::testing::TestWithParam<Engine> {
  protected:

@@ -14,7 +14,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace anchordb::storage {
-namespace {
+namespace store_test {
 
 StoreOptions OptionsFor(const std::string& path) {
   StoreOptions o;
