@@ -3,7 +3,6 @@
 
 #include <unistd.h>
 
-#include <charconv>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -116,9 +115,10 @@ void CheckPcdHeaderNumbers(std::string_view bytes, std::size_t max_points) {
       into = std::max(into, std::min(static_cast<std::uint64_t>(v), kCap));
       if (!numbers) break;  // an out-of-range number: extraction saturates it and fails
     }
-    std::istringstream words{std::string(rest)};
+    numbers.clear();  // the same text once more, word by word: the number of values (SIZE: of fields)
+    numbers.seekg(0);
     std::uint64_t n = 0;
-    for (std::string word; words >> word;) ++n;
+    for (std::string word; numbers >> word;) ++n;
     return n;
   };
   constexpr std::string_view kBlanks = " \t\r";  // PCL's word separators
